@@ -1,0 +1,81 @@
+// The ellipse detector (Dong et al. 2018, sec. II).
+//
+//   ellipsekit::Detector det(options);
+//   ellipsekit::DetectionResult result;
+//   ellipsekit::Status st = det.detect(view, &result);
+//
+// detect() never throws and never crashes on bad input: it returns a status naming the problem.
+// Buffers are sized on the first frame of a given size and reused, so later frames of that size
+// do not allocate (the caller keeps `result` across calls so its vector keeps its capacity).
+// A Detector is used by one thread at a time; separate detectors run concurrently.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "ellipsekit/options.h"
+#include "ellipsekit/types.h"
+
+namespace ellipsekit {
+
+// Wall time of each stage of the last detect(), milliseconds.
+struct StageTimings {
+  double edges_ms = 0;     // blur, Sobel, thresholds, NMS, hysteresis, sign classification
+  double curves_ms = 0;    // 8-connected curve tracing, T_n / OBB filter
+  double arcs_ms = 0;      // polyline, turn angles, split, arc statistics, quadrants
+  double fit_ms = 0;       // grouping, centres, parameters
+  double validate_ms = 0;  // eqs. 13-17
+  double total_ms = 0;
+};
+
+// Which caps of Options were hit on the last frame (the result is then partial).
+enum CapFlags : unsigned {
+  kCapNone = 0,
+  kCapArcs = 1u << 0,
+  kCapPairs = 1u << 1,
+  kCapTriplets = 1u << 2,
+  kCapCandidates = 1u << 3,
+  kCapMeanShift = 1u << 4,
+};
+
+struct DetectionResult {
+  std::vector<Ellipse> ellipses;  // best score first
+  StageTimings timings;
+  Backend backend = Backend::kScalar;  // the backend that ran
+  unsigned caps_hit = kCapNone;        // CapFlags
+  int num_edge_pixels = 0;
+  int num_curves = 0;
+  int num_arcs = 0;
+  int num_candidates = 0;
+};
+
+class Detector {
+ public:
+  explicit Detector(const Options& options = Options());
+  ~Detector();
+  Detector(Detector&&) noexcept;
+  Detector& operator=(Detector&&) noexcept;
+  Detector(const Detector&) = delete;
+  Detector& operator=(const Detector&) = delete;
+
+  // Options are checked here; an invalid set makes every detect() return that error.
+  Status status() const;
+  const Options& options() const;
+
+  Status detect(const ImageView& image, DetectionResult* result);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Checks an Options set; names the first bad field.
+Status ValidateOptions(const Options& options);
+// Checks an image view against the options' size limit; names the problem.
+Status ValidateImage(const ImageView& image, const Options& options);
+
+const char* BackendName(Backend backend);
+// Parses "auto", "scalar", "simd", "vulkan"; returns false on anything else.
+bool ParseBackend(const char* name, Backend* backend);
+
+}  // namespace ellipsekit

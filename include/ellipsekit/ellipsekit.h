@@ -1,0 +1,6 @@
+// Umbrella header for the ellipsekit public API.
+#pragma once
+
+#include "ellipsekit/detector.h"
+#include "ellipsekit/options.h"
+#include "ellipsekit/types.h"

@@ -1,0 +1,73 @@
+// Detector options: the paper's thresholds (Dong et al. 2018, sec. III-B), backend choice and
+// the caps that bound the work on any input (DESIGN.md "Bounded work").
+#pragma once
+
+#include <cstdint>
+
+namespace ellipsekit {
+
+enum class Backend {
+  kAuto,    // best available: SIMD on the CPU (Vulkan only when asked for)
+  kScalar,  // the reference every other backend is tested against
+  kSimd,    // Google Highway kernels, dynamic dispatch
+  kVulkan,  // compute shaders
+};
+
+// How the centre of an arc group is found (sec. II-C-1; Table I's two rows).
+enum class CenterMethod {
+  kLongestChords,  // "Ours": eqs. 3-7 on the two longest endpoint chords + mean shift
+  kArcChords,      // "Ours^1": each arc's own chord midpoint / tangent pole, refs. [36]-[40]
+};
+
+// T_O of sec. II-A is ambiguous: the text says a minimum side length, Fig. 11(B) a side ratio.
+enum class ObbRule {
+  kMinSide,    // drop a curve whose OBB_min short side < obb_threshold px
+  kSideRatio,  // drop a curve whose OBB_min long/short side ratio > obb_threshold
+};
+
+// T_d of eq. 15 is ambiguous: eq. 15 is dimensionless, Fig. 12(B) calls it a pixel distance.
+enum class InlierRule {
+  kAlgebraic,  // d = |X + Y - 1| < inlier_threshold (eq. 15 as written)
+  kPixel,      // approximate geometric distance to the ellipse < inlier_threshold px
+};
+
+struct Options {
+  Backend backend = Backend::kAuto;
+
+  // ---- edges (sec. II-A): Canny with automatic thresholds
+  bool gaussian_blur = true;        // 3x3 binomial pre-filter (integer, exact)
+  int canny_high_permille = 900;    // high threshold = this per-mille quantile of gradient magnitude
+  int canny_low_permille = 400;     // low threshold = high * this / 1000
+  int canny_min_high = 40;          // floor for the high threshold (L1 Sobel magnitude units)
+
+  // ---- curves and arcs (sec. II-A, II-B-1)
+  int min_curve_points = 15;        // T_n: curves/arcs with fewer points are dropped
+  ObbRule obb_rule = ObbRule::kSideRatio;
+  double obb_threshold = 20.0;      // T_O (see ObbRule)
+  double polyline_tolerance = 1.0;  // max deviation of a curve from its polyline, px (ref. [34])
+  double split_angle_deg = 35.0;    // T_theta: split where |theta_{i+1} - theta_i| > this, (0, 90)
+
+  // ---- grouping and centre (sec. II-B-3, II-C-1)
+  CenterMethod center_method = CenterMethod::kLongestChords;
+  double center_distance = 25.0;    // T_c: the two pair centres of a triplet within this, px
+  double mean_shift_bandwidth = 3.0;  // px, flat kernel radius for the centre mean shift
+  double distance_ratio = 5.0;      // T_f: Gamma = max/min midpoint distance < this (sec. II-C-2)
+
+  // ---- validation (sec. II-D)
+  double length_ratio = 0.5;        // T_l: K(tau) of eq. 13 must exceed this
+  InlierRule inlier_rule = InlierRule::kAlgebraic;
+  double inlier_threshold = 1.0;    // T_d (see InlierRule)
+  double circumference_ratio = 0.5; // T_psi: psi of eq. 16 must exceed this
+  double cluster_distance = 25.0;   // T_s: eq. 17 feature distance below which two ellipses merge
+  bool refine_fit = true;           // refit each candidate by least squares on its arcs' points
+
+  // ---- caps (bounded work): when one is hit, DetectionResult::caps_hit says which
+  int max_arcs = 4096;              // arcs kept per frame (longest first)
+  int max_pairs = 200000;           // arc pairs examined
+  int max_triplets = 50000;         // triplets examined
+  int max_candidates = 5000;        // ellipse candidates validated
+  int max_mean_shift_iterations = 20;
+  int max_image_pixels = 1 << 26;   // 64 Mpx; larger frames are an error
+};
+
+}  // namespace ellipsekit
