@@ -1,0 +1,22 @@
+// The fit back end's view of an arc: kernel statistics turned into geometry (doubles).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "kernels/arc_types.h"
+
+namespace ellipsekit {
+
+struct Arc {
+  Eigen::Vector2d p0, p1, mid;  // end points and middle point, px
+  Eigen::Vector2d n0, n1;       // unit gradient (edge normal) at the two ends
+  double width = 0, height = 0; // axis-aligned bounding box extents m_i, n_i (eq. 13), px
+  int min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  int quadrant = 0;             // Quadrant
+  int begin = 0, end = 0;       // point range in Curves, inclusive
+  int points() const { return end - begin + 1; }
+};
+
+Arc ArcFromStats(const ArcStats& s);
+
+}  // namespace ellipsekit

@@ -1,0 +1,76 @@
+#include "fit/arc_selection.h"
+
+#include <algorithm>
+
+#include "kernels/arc_stats.h"
+
+namespace ellipsekit {
+
+Arc ArcFromStats(const ArcStats& s) {
+  Arc a;
+  a.p0 = {double(s.x0), double(s.y0)};
+  a.p1 = {double(s.x1), double(s.y1)};
+  a.mid = {double(s.xm), double(s.ym)};
+  a.n0 = Eigen::Vector2d(s.g0x, s.g0y).normalized();
+  a.n1 = Eigen::Vector2d(s.g1x, s.g1y).normalized();
+  a.min_x = s.min_x; a.min_y = s.min_y; a.max_x = s.max_x; a.max_y = s.max_y;
+  a.width = s.max_x - s.min_x;
+  a.height = s.max_y - s.min_y;
+  a.quadrant = s.quadrant;
+  a.begin = s.begin;
+  a.end = s.end;
+  return a;
+}
+
+bool PassesObbRule(const Curves& curves, int begin, int end, const Options& options,
+                   std::vector<std::int64_t>* hull) {
+  const ObbSides obb = MinAreaObb(curves.x.data(), curves.y.data(), begin, end, hull);
+  if (options.obb_rule == ObbRule::kMinSide) return obb.short_side >= options.obb_threshold;
+  // Side ratio: an almost straight curve has a long, thin box.
+  return obb.long_side <= options.obb_threshold * std::max(obb.short_side, 1.0);
+}
+
+void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull,
+                       Curves* scratch) {
+  scratch->clear();
+  for (int c = 0; c < curves->size(); ++c) {
+    const int b = curves->offset[c], e = curves->offset[c + 1];
+    if (!PassesObbRule(*curves, b, e, options, hull)) continue;
+    scratch->x.insert(scratch->x.end(), curves->x.begin() + b, curves->x.begin() + e);
+    scratch->y.insert(scratch->y.end(), curves->y.begin() + b, curves->y.begin() + e);
+    scratch->gx.insert(scratch->gx.end(), curves->gx.begin() + b, curves->gx.begin() + e);
+    scratch->gy.insert(scratch->gy.end(), curves->gy.begin() + b, curves->gy.begin() + e);
+    scratch->sign_class.push_back(curves->sign_class[c]);
+    scratch->offset.push_back(static_cast<std::int32_t>(scratch->x.size()));
+  }
+  std::swap(*curves, *scratch);
+}
+
+}  // namespace ellipsekit
+
+namespace ellipsekit {
+
+void SelectArcs(const KernelTable& kernels, const Curves& curves, const Options& options,
+                ArcScratch* scratch, std::vector<Arc>* arcs, bool* capped) {
+  kernels.polyline(curves, PolylineToleranceQ16(options.polyline_tolerance), &scratch->polylines,
+                   &scratch->stack);
+  kernels.arc_split(curves, scratch->polylines, SplitTanQ16(options.split_angle_deg), &scratch->splits);
+  scratch->stats.clear();
+  kernels.arc_stats(curves, scratch->splits, options.min_curve_points, &scratch->stats);
+  arcs->clear();
+  for (const ArcStats& s : scratch->stats) {
+    if (s.quadrant == kQuadrantNone) continue;
+    if (!PassesObbRule(curves, s.begin, s.end + 1, options, &scratch->hull)) continue;
+    arcs->push_back(ArcFromStats(s));
+  }
+  *capped = static_cast<int>(arcs->size()) > options.max_arcs;
+  if (*capped) {
+    // Keep the longest arcs; ties by first point index (unique), so the choice is deterministic.
+    std::sort(arcs->begin(), arcs->end(), [](const Arc& a, const Arc& b) {
+      return a.points() != b.points() ? a.points() > b.points() : a.begin < b.begin;
+    });
+    arcs->resize(static_cast<std::size_t>(options.max_arcs));
+  }
+}
+
+}  // namespace ellipsekit

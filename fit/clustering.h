@@ -1,0 +1,18 @@
+// Clustering of duplicate candidates (sec. II-D-3, eq. 17): candidates ranked by score
+// (K(tau) + psi(tau), best first); each joins the first kept ellipse whose feature distance
+//   D = sqrt(dcx^2 + dcy^2 + dA^2 + dB^2 + drho^2)      (px, px, px, px, rad; drho wrapped mod pi)
+// is below T_s, or else is kept as a new cluster reference.
+#pragma once
+
+#include <vector>
+
+#include "ellipsekit/types.h"
+
+namespace ellipsekit {
+
+double FeatureDistance(const Ellipse& v, const Ellipse& w);
+
+// Sorts `candidates` by score (in place) and appends the cluster references to `out`.
+void ClusterCandidates(std::vector<Ellipse>* candidates, double threshold, std::vector<Ellipse>* out);
+
+}  // namespace ellipsekit

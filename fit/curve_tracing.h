@@ -1,0 +1,30 @@
+// Edge curves by 8-connectivity, one gradient class at a time (sec. II-A).
+//
+// Pixels are visited in raster order; from each unvisited edge pixel the chain is followed in
+// both directions, always taking the first unvisited neighbour of the same class in the order
+// E, S, W, N, SE, SW, NW, NE (4-neighbours first, so staircase pixels are not skipped). A junction
+// ends a chain; its other branches become chains of their own. Deterministic: the same EdgeMap
+// always gives the same curves in the same order.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "kernels/arc_types.h"
+
+namespace ellipsekit {
+
+struct TraceScratch {
+  std::vector<std::uint8_t> work;  // width * height copy of the edge map, cleared as visited
+  std::vector<std::int32_t> forward, backward;
+};
+
+// edge_map: kEdgeNone / kEdgePlus / kEdgeMinus per pixel, rows `stride` bytes apart.
+// dx, dy: Sobel gradients, rows grad_stride elements apart. Curves shorter than min_points are
+// dropped (T_n). Appends to `out` after clearing it.
+void TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
+                 const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
+                 int min_points, Curves* out, TraceScratch* scratch);
+
+}  // namespace ellipsekit

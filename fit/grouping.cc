@@ -1,0 +1,116 @@
+#include "fit/grouping.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ellipsekit/detector.h"
+#include "fit/center.h"
+#include "fit/validation.h"
+
+namespace ellipsekit {
+
+namespace {
+
+constexpr int kPositionTolerance = 1;  // px (sec. II-B-3)
+
+int NextQuadrant(int q) { return q == 4 ? 1 : q + 1; }
+
+// prev is in quadrant q, next in quadrant q + 1 (counter-clockwise).
+bool RelativePositionHolds(const Arc& prev, const Arc& next) {
+  switch (prev.quadrant) {
+    case kQuadrantI: return next.max_x <= prev.min_x + kPositionTolerance;
+    case kQuadrantII: return prev.max_y <= next.min_y + kPositionTolerance;
+    case kQuadrantIII: return prev.max_x <= next.min_x + kPositionTolerance;
+    case kQuadrantIV: return next.max_y <= prev.min_y + kPositionTolerance;
+  }
+  return false;
+}
+
+void BuildCsr(int arcs, const std::vector<GroupScratch::Pair>& pairs, bool by_next,
+              std::vector<int>* offset, std::vector<int>* items) {
+  offset->assign(static_cast<std::size_t>(arcs) + 1, 0);
+  for (const auto& p : pairs) ++(*offset)[(by_next ? p.next : p.prev) + 1];
+  for (int i = 0; i < arcs; ++i) (*offset)[i + 1] += (*offset)[i];
+  items->resize(pairs.size());
+  // Fill with a running cursor per arc (offset[i] advanced, then restored below).
+  for (int k = 0; k < static_cast<int>(pairs.size()); ++k) {
+    const int a = by_next ? pairs[k].next : pairs[k].prev;
+    (*items)[(*offset)[a]++] = k;
+  }
+  for (int i = arcs; i > 0; --i) (*offset)[i] = (*offset)[i - 1];
+  (*offset)[0] = 0;
+}
+
+double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& c) {
+  double lo = HUGE_VAL, hi = 0;
+  for (int i = 0; i < count; ++i) {
+    const double d = (group[i]->mid - c).norm();
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  return lo > 0 ? hi / lo : HUGE_VAL;
+}
+
+}  // namespace
+
+void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
+                    GroupScratch* s, std::vector<Ellipse>* candidates, GroupStats* stats) {
+  const int n = static_cast<int>(arcs.size());
+  for (auto& q : s->by_quadrant) q.clear();
+  for (int i = 0; i < n; ++i) s->by_quadrant[arcs[i].quadrant].push_back(i);
+
+  // Pairs.
+  s->pairs.clear();
+  long examined = 0;
+  for (int q = 1; q <= 4 && !(stats->caps_hit & kCapPairs); ++q) {
+    for (int i : s->by_quadrant[q]) {
+      for (int j : s->by_quadrant[NextQuadrant(q)]) {
+        if (++examined > options.max_pairs) { stats->caps_hit |= kCapPairs; break; }
+        if (!RelativePositionHolds(arcs[i], arcs[j])) continue;
+        Eigen::Vector2d c;
+        if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) s->pairs.push_back({i, j, c});
+      }
+      if (stats->caps_hit & kCapPairs) break;
+    }
+  }
+  stats->pairs = static_cast<int>(s->pairs.size());
+  BuildCsr(n, s->pairs, /*by_next=*/true, &s->as_next_offset, &s->as_next);
+  BuildCsr(n, s->pairs, /*by_next=*/false, &s->as_prev_offset, &s->as_prev);
+
+  // Triplets: (a, b) and (b, c) share the middle arc b.
+  const double tc2 = options.center_distance * options.center_distance;
+  for (int b = 0; b < n; ++b) {
+    for (int u = s->as_next_offset[b]; u < s->as_next_offset[b + 1]; ++u) {
+      const GroupScratch::Pair& ab = s->pairs[s->as_next[u]];
+      for (int v = s->as_prev_offset[b]; v < s->as_prev_offset[b + 1]; ++v) {
+        const GroupScratch::Pair& bc = s->pairs[s->as_prev[v]];
+        if (ab.prev == bc.next) continue;
+        if ((ab.center - bc.center).squaredNorm() >= tc2) continue;
+        if (stats->triplets >= options.max_triplets) { stats->caps_hit |= kCapTriplets; return; }
+        ++stats->triplets;
+        const Arc* group[3] = {&arcs[ab.prev], &arcs[b], &arcs[bc.next]};
+        bool ms_capped = false;
+        const Eigen::Vector2d center =
+            TripletCenter(*group[0], *group[1], *group[2], ab.center, bc.center, options, &ms_capped);
+        if (ms_capped) stats->caps_hit |= kCapMeanShift;
+        if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
+        Ellipse e;
+        if (!EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
+        if (options.refine_fit) RefineEllipse(curves, group, 3, &s->refine, &e);
+        if (!(e.b >= 1.0)) continue;
+        const double k = LengthRatio(group, 3, e);
+        if (!(k > options.length_ratio)) continue;
+        const double psi = CircumferenceRatio(curves, group, 3, e, options.inlier_rule, options.inlier_threshold);
+        if (!(psi > options.circumference_ratio)) continue;
+        if (static_cast<int>(candidates->size()) >= options.max_candidates) {
+          stats->caps_hit |= kCapCandidates;
+          return;
+        }
+        e.score = k + psi;
+        candidates->push_back(e);
+      }
+    }
+  }
+}
+
+}  // namespace ellipsekit

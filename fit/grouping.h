@@ -1,0 +1,49 @@
+// Arc grouping and candidate generation (sec. II-B-3 to II-D-2).
+//
+// Pairs come from consecutive quadrants counter-clockwise on screen — (I, II), (II, III),
+// (III, IV), (IV, I) — and must sit where an ellipse puts them (1 px tolerance, sec. II-B-3):
+//   (I, II):   II.max_x <= I.min_x + 1      II lies left of I
+//   (II, III): II.max_y <= III.min_y + 1    II lies above III
+//   (III, IV): III.max_x <= IV.min_x + 1    III lies left of IV
+//   (IV, I):   I.max_y <= IV.min_y + 1      I lies above IV
+// and must give a centre (center.h). A triplet is two pairs sharing their middle arc, which yields
+// exactly the paper's four kinds (I,II,III), (II,III,IV), (III,IV,I), (IV,I,II); its two pair
+// centres must lie within T_c. Then: the triplet centre, Gamma < T_f (midpoint distances),
+// parameters (eqs. 8-12, optionally refined), K(tau) > T_l and psi > T_psi.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ellipsekit/options.h"
+#include "ellipsekit/types.h"
+#include "fit/arc.h"
+#include "fit/conic_refine.h"
+#include "fit/parameters.h"
+
+namespace ellipsekit {
+
+struct GroupScratch {
+  struct Pair {
+    int prev, next;  // arc indices; prev is the earlier quadrant counter-clockwise
+    Eigen::Vector2d center;
+  };
+  std::vector<int> by_quadrant[5];
+  std::vector<Pair> pairs;
+  std::vector<int> as_next_offset, as_next;  // CSR: pairs in which arc i is `next`
+  std::vector<int> as_prev_offset, as_prev;  // CSR: pairs in which arc i is `prev`
+  ParameterScratch params;
+  RefineScratch refine;
+};
+
+struct GroupStats {
+  int pairs = 0, triplets = 0;
+  unsigned caps_hit = 0;  // CapFlags
+};
+
+// Appends validated candidates (score = K(tau) + psi) to `candidates`.
+void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
+                    GroupScratch* scratch, std::vector<Ellipse>* candidates, GroupStats* stats);
+
+}  // namespace ellipsekit

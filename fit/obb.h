@@ -1,0 +1,20 @@
+// OBB_min: the minimum-area oriented bounding box of a point set (sec. II-A, ref. [33]).
+// Convex hull (Andrew's monotone chain, exact on integer points), then every hull edge is tried
+// as a side of the box (the optimal box has a side on a hull edge).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace ellipsekit {
+
+struct ObbSides {
+  double short_side = 0;  // px
+  double long_side = 0;   // px
+};
+
+// Points are (x[i], y[i]) for i in [begin, end). hull: scratch.
+ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
+                    std::vector<std::int64_t>* hull);
+
+}  // namespace ellipsekit

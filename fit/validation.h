@@ -1,0 +1,19 @@
+// Ellipse validation (sec. II-D-1, II-D-2).
+//   K(tau) = sum_i (m_i + n_i) / (count (A + B))                       eq. 13 (m_i x n_i: arc i's box)
+//   psi(tau) = N_B / (N_a + N_b + N_c), N_B = arc points with d < T_d   eq. 16
+//   d = |X + Y - 1| (eq. 15, InlierRule::kAlgebraic), or the first-order geometric distance
+//       |F| / |grad F| in px with F = X + Y - 1 (InlierRule::kPixel).
+#pragma once
+
+#include "ellipsekit/options.h"
+#include "ellipsekit/types.h"
+#include "fit/arc.h"
+
+namespace ellipsekit {
+
+double LengthRatio(const Arc* const* arcs, int count, const Ellipse& e);
+
+double CircumferenceRatio(const Curves& curves, const Arc* const* arcs, int count, const Ellipse& e,
+                          InlierRule rule, double threshold);
+
+}  // namespace ellipsekit

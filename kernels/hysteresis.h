@@ -1,0 +1,19 @@
+// hysteresis: Canny's edge tracking by hysteresis.
+//
+// Contract (order independent, so every backend can reach it its own way): a pixel is an edge
+// exactly when it is weak or strong (nms.h) and lies in an 8-connected component of such pixels
+// that holds at least one strong pixel. Out: 1 = edge, 0 = not. In-place on the NMS map.
+// The scalar reference floods from every strong pixel with an explicit stack (`stack` must hold
+// width * height entries); a parallel backend may iterate "weak with an edge neighbour becomes
+// edge" until nothing changes, which ends after at most width * height rounds.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace ellipsekit::scalar {
+
+void Hysteresis(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
+                std::int32_t* stack);
+
+}  // namespace ellipsekit::scalar

@@ -1,0 +1,39 @@
+#include "kernels/nms.h"
+
+#include <cstdlib>
+#include <cstring>
+
+namespace ellipsekit::scalar {
+
+void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
+         int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+         std::ptrdiff_t out_stride) {
+  for (int y = 0; y < height; ++y) {
+    std::uint8_t* o = out + y * out_stride;
+    std::memset(o, 0, static_cast<std::size_t>(width));
+    if (y == 0 || y == height - 1) continue;
+    const std::uint16_t* mp = mag + (y - 1) * stride;
+    const std::uint16_t* mc = mag + y * stride;
+    const std::uint16_t* mn = mag + (y + 1) * stride;
+    const std::int16_t* gx = dx + y * stride;
+    const std::int16_t* gy = dy + y * stride;
+    for (int x = 1; x < width - 1; ++x) {
+      const int m = mc[x];
+      if (m <= low) continue;
+      const std::int32_t ax = std::abs(gx[x]), ay = std::abs(gy[x]);
+      const std::int32_t ay15 = ay << 15;
+      bool is_max;
+      if (ay15 < kTan22Q15 * ax) {
+        is_max = m > mc[x - 1] && m >= mc[x + 1];
+      } else if (ay15 > kTan67Q15 * ax) {
+        is_max = m > mp[x] && m >= mn[x];
+      } else {
+        const int s = ((gx[x] ^ gy[x]) < 0) ? -1 : 1;
+        is_max = m > mp[x - s] && m > mn[x + s];
+      }
+      if (is_max) o[x] = (m > high) ? kNmsStrong : kNmsWeak;
+    }
+  }
+}
+
+}  // namespace ellipsekit::scalar

@@ -1,0 +1,143 @@
+// Multi-object ellipse tracker: gating, Hungarian assignment, constant-velocity Kalman filters.
+#include "ellipsekit/robot/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "ellipsekit/robot/hungarian.h"
+
+namespace ellipsekit::robot {
+
+const char* TrackStateName(TrackState s) {
+  switch (s) {
+    case TrackState::kTentative: return "tentative";
+    case TrackState::kConfirmed: return "confirmed";
+    case TrackState::kLost: return "lost";
+  }
+  return "?";
+}
+
+void EllipseTracker::Reset() {
+  tracks_.clear();
+  filters_.clear();
+  next_id_ = 1;
+  has_stamp_ = false;
+}
+
+const Track* EllipseTracker::Find(std::int64_t id) const {
+  for (const Track& t : tracks_)
+    if (t.id == id) return &t;
+  return nullptr;
+}
+
+std::vector<Track> EllipseTracker::ConfirmedTracks() const {
+  std::vector<Track> out;
+  for (const Track& t : tracks_)
+    if (t.state != TrackState::kTentative) out.push_back(t);
+  return out;
+}
+
+Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) {
+  if (!std::isfinite(stamp_s) || (has_stamp_ && !(stamp_s > last_stamp_))) {
+    return Status(StatusCode::kInvalidArgument, "tracker: timestamps must increase");
+  }
+  for (const Ellipse& e : dets) {
+    if (!(std::isfinite(e.cx) && std::isfinite(e.cy) && std::isfinite(e.a) && std::isfinite(e.b) && e.a > 0 &&
+          e.b > 0)) {
+      return Status(StatusCode::kInvalidArgument, "tracker: degenerate detection");
+    }
+  }
+  const double dt = has_stamp_ ? stamp_s - last_stamp_ : 0.0;
+  last_stamp_ = stamp_s;
+  has_stamp_ = true;
+
+  for (auto& f : filters_) f.kf.Predict(dt);
+
+  // Gated cost matrix: tracks x detections.
+  const double kForbidden = 1e18;
+  const int nt = static_cast<int>(tracks_.size()), nd = static_cast<int>(dets.size());
+  Eigen::MatrixXd cost(nt, nd);
+  for (int i = 0; i < nt; ++i) {
+    const auto& f = filters_[i];
+    const Eigen::Vector2d pred = f.kf.position();
+    const Eigen::Matrix2d S = f.kf.PositionCovariance() + options_.measurement_var * Eigen::Matrix2d::Identity();
+    const double sigma = std::sqrt(S.eigenvalues().real().maxCoeff());
+    const double gate = std::min(std::max(options_.gate_px, options_.gate_sigmas * sigma), 4 * options_.gate_px);
+    for (int j = 0; j < nd; ++j) {
+      const double dist = (Eigen::Vector2d(dets[j].cx, dets[j].cy) - pred).norm();
+      const double axis = std::max(std::abs(dets[j].a - f.a) / f.a, std::abs(dets[j].b - f.b) / f.b);
+      cost(i, j) = (dist > gate || axis > options_.max_axis_rel_diff)
+                       ? kForbidden
+                       : dist / gate + options_.axis_cost_weight * axis;
+    }
+  }
+  const std::vector<int> match = SolveAssignment(cost, kForbidden);
+
+  std::vector<char> det_used(nd, 0);
+  std::vector<char> keep(nt, 1);
+  for (int i = 0; i < nt; ++i) {
+    Track& t = tracks_[i];
+    auto& f = filters_[i];
+    const int j = match[i];
+    t.detection_index = j;
+    if (j >= 0) {
+      det_used[j] = 1;
+      f.kf.Update(Eigen::Vector2d(dets[j].cx, dets[j].cy));
+      const double w = options_.axis_smoothing;
+      f.a = (1 - w) * f.a + w * dets[j].a;
+      f.b = (1 - w) * f.b + w * dets[j].b;
+      t.ellipse.theta = dets[j].theta;
+      t.ellipse.score = dets[j].score;
+      ++t.hits;
+      t.misses = 0;
+      t.last_seen_s = stamp_s;
+      if (t.state == TrackState::kLost || (t.state == TrackState::kTentative && t.hits >= options_.confirm_hits)) {
+        t.state = TrackState::kConfirmed;
+      }
+    } else {
+      ++t.misses;
+      if (t.state == TrackState::kTentative) {
+        keep[i] = 0;
+      } else {
+        t.state = TrackState::kLost;
+        if (stamp_s - t.last_seen_s > options_.max_lost_s) keep[i] = 0;
+      }
+    }
+    const Eigen::Vector2d p = f.kf.position();
+    t.ellipse.cx = p.x();
+    t.ellipse.cy = p.y();
+    t.ellipse.a = std::max(f.a, f.b);
+    t.ellipse.b = std::min(f.a, f.b);
+    t.velocity_px_s = f.kf.velocity();
+  }
+  std::vector<Track> tracks;
+  std::vector<Internal> filters;
+  for (int i = 0; i < nt; ++i) {
+    if (keep[i]) {
+      tracks.push_back(tracks_[i]);
+      filters.push_back(filters_[i]);
+    }
+  }
+  for (int j = 0; j < nd; ++j) {
+    if (det_used[j]) continue;
+    Track t;
+    t.id = next_id_++;
+    t.state = options_.confirm_hits <= 1 ? TrackState::kConfirmed : TrackState::kTentative;
+    t.ellipse = dets[j];
+    t.hits = 1;
+    t.first_seen_s = t.last_seen_s = stamp_s;
+    t.detection_index = j;
+    tracks.push_back(t);
+    filters.push_back(Internal{ConstantVelocityKalman(Eigen::Vector2d(dets[j].cx, dets[j].cy),
+                                                      options_.measurement_var, options_.initial_velocity_var,
+                                                      options_.accel_density, options_.measurement_var),
+                               dets[j].a, dets[j].b});
+  }
+  tracks_ = std::move(tracks);
+  filters_ = std::move(filters);
+  return Status::Ok();
+}
+
+}  // namespace ellipsekit::robot

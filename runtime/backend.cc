@@ -1,0 +1,73 @@
+#include "runtime/backend.h"
+
+#include <cstring>
+
+#include "kernels/arc_stats.h"
+#include "kernels/canny_thresholds.h"
+#include "kernels/edge_sign.h"
+#include "kernels/gaussian.h"
+#include "kernels/hysteresis.h"
+#include "kernels/nms.h"
+#include "kernels/sobel.h"
+
+namespace ellipsekit {
+
+const KernelTable& ScalarKernels() {
+  static const KernelTable table = [] {
+    KernelTable t;
+    t.backend = Backend::kScalar;
+    t.gaussian = scalar::Gaussian;
+    t.sobel = scalar::Sobel;
+    t.magnitude_histogram = scalar::MagnitudeHistogram;
+    t.nms = scalar::Nms;
+    t.hysteresis = scalar::Hysteresis;
+    t.edge_sign = scalar::EdgeSign;
+    t.polyline = scalar::Polyline;
+    t.arc_split = scalar::ArcSplit;
+    t.arc_stats = scalar::ArcStatsFromSplits;
+    return t;
+  }();
+  return table;
+}
+
+Status ResolveKernels(Backend requested, const KernelTable** table, std::string* why) {
+  why->clear();
+  switch (requested) {
+    case Backend::kScalar:
+      *table = &ScalarKernels();
+      return Status::Ok();
+    case Backend::kAuto:
+      *table = &ScalarKernels();
+      *why = "SIMD and Vulkan backends are not built in this version; using scalar";
+      return Status::Ok();
+    case Backend::kSimd:
+      return {StatusCode::kUnavailable, "backend 'simd' is not available: the Highway kernels are not built in this version"};
+    case Backend::kVulkan:
+      return {StatusCode::kUnavailable, "backend 'vulkan' is not available: the Vulkan kernels are not built in this version"};
+  }
+  return {StatusCode::kInvalidArgument, "unknown backend value"};
+}
+
+const char* BackendName(Backend backend) {
+  switch (backend) {
+    case Backend::kAuto: return "auto";
+    case Backend::kScalar: return "scalar";
+    case Backend::kSimd: return "simd";
+    case Backend::kVulkan: return "vulkan";
+  }
+  return "unknown";
+}
+
+bool ParseBackend(const char* name, Backend* backend) {
+  if (name == nullptr) return false;
+  const Backend all[] = {Backend::kAuto, Backend::kScalar, Backend::kSimd, Backend::kVulkan};
+  for (Backend b : all) {
+    if (std::strcmp(name, BackendName(b)) == 0) {
+      *backend = b;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace ellipsekit

@@ -1,0 +1,216 @@
+// Frame orchestration: edges -> curves -> arcs -> candidates -> clusters, with stage timings.
+// Every buffer lives in Detector::Impl and is sized on the first frame of a given size; the
+// vectors only clear() afterwards, so later frames of that size reuse their capacity.
+#include "ellipsekit/detector.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "fit/arc_selection.h"
+#include "fit/clustering.h"
+#include "fit/curve_tracing.h"
+#include "fit/grouping.h"
+#include "kernels/canny_thresholds.h"
+#include "runtime/backend.h"
+
+namespace ellipsekit {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+Status Invalid(const std::string& what) { return {StatusCode::kInvalidArgument, what}; }
+
+bool Finite(double v) { return std::isfinite(v); }
+
+}  // namespace
+
+Status ValidateOptions(const Options& o) {
+  if (o.canny_high_permille < 0 || o.canny_high_permille > 1000) return Invalid("canny_high_permille must be in [0, 1000]");
+  if (o.canny_low_permille < 0 || o.canny_low_permille > 1000) return Invalid("canny_low_permille must be in [0, 1000]");
+  if (o.canny_min_high < 0 || o.canny_min_high > kMaxMagnitude) return Invalid("canny_min_high must be in [0, 2040]");
+  if (o.min_curve_points < 3) return Invalid("min_curve_points (T_n) must be >= 3");
+  if (!Finite(o.obb_threshold) || o.obb_threshold < 0) return Invalid("obb_threshold (T_O) must be a finite number >= 0");
+  if (!Finite(o.polyline_tolerance) || o.polyline_tolerance <= 0 || o.polyline_tolerance > 4)
+    return Invalid("polyline_tolerance must be in (0, 4] px");
+  if (!Finite(o.split_angle_deg) || o.split_angle_deg <= 0 || o.split_angle_deg > 60)
+    return Invalid("split_angle_deg (T_theta) must be in (0, 60] degrees");
+  if (!Finite(o.center_distance) || o.center_distance <= 0) return Invalid("center_distance (T_c) must be > 0");
+  if (!Finite(o.mean_shift_bandwidth) || o.mean_shift_bandwidth <= 0) return Invalid("mean_shift_bandwidth must be > 0");
+  if (!Finite(o.distance_ratio) || o.distance_ratio < 1) return Invalid("distance_ratio (T_f) must be >= 1");
+  if (!Finite(o.length_ratio) || o.length_ratio < 0) return Invalid("length_ratio (T_l) must be >= 0");
+  if (!Finite(o.inlier_threshold) || o.inlier_threshold <= 0) return Invalid("inlier_threshold (T_d) must be > 0");
+  if (!Finite(o.circumference_ratio) || o.circumference_ratio < 0 || o.circumference_ratio > 1)
+    return Invalid("circumference_ratio (T_psi) must be in [0, 1]");
+  if (!Finite(o.cluster_distance) || o.cluster_distance < 0) return Invalid("cluster_distance (T_s) must be >= 0");
+  if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
+    return Invalid("caps (max_arcs, max_pairs, max_triplets, max_candidates, max_mean_shift_iterations) must be >= 1");
+  if (o.max_image_pixels < 1) return Invalid("max_image_pixels must be >= 1");
+  switch (o.backend) {
+    case Backend::kAuto: case Backend::kScalar: case Backend::kSimd: case Backend::kVulkan: break;
+    default: return Invalid("backend is not one of Auto, Scalar, Simd, Vulkan");
+  }
+  return Status::Ok();
+}
+
+Status ValidateImage(const ImageView& image, const Options& options) {
+  if (image.data == nullptr) return Invalid("image data is null");
+  if (image.width <= 0 || image.height <= 0)
+    return Invalid("image size " + std::to_string(image.width) + "x" + std::to_string(image.height) + " is not positive");
+  if (image.stride < image.width)
+    return Invalid("image stride " + std::to_string(image.stride) + " is smaller than its width " + std::to_string(image.width));
+  if (image.width > kMaxImageDimension || image.height > kMaxImageDimension)
+    return Invalid("image size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                   " exceeds the maximum side of " + std::to_string(kMaxImageDimension) + " px");
+  if (static_cast<long long>(image.width) * image.height > options.max_image_pixels)
+    return Invalid("image has " + std::to_string(static_cast<long long>(image.width) * image.height) +
+                   " pixels, more than max_image_pixels = " + std::to_string(options.max_image_pixels));
+  return Status::Ok();
+}
+
+struct Detector::Impl {
+  Options options;
+  Status status;
+  const KernelTable* kernels = nullptr;
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> blurred, nms, edge_map;
+  std::vector<std::int16_t> dx, dy;
+  std::vector<std::uint16_t> mag;
+  std::vector<std::uint32_t> hist;
+  std::vector<std::int32_t> stack;
+  Curves curves, curves_scratch;
+  TraceScratch trace;
+  std::vector<std::int64_t> hull;
+  ArcScratch arc_scratch;
+  std::vector<Arc> arcs;
+  GroupScratch groups;
+  std::vector<Ellipse> candidates;
+
+  void Resize(int w, int h) {
+    if (w == width && h == height) return;
+    width = w;
+    height = h;
+    const std::size_t n = static_cast<std::size_t>(w) * h;
+    blurred.resize(n); nms.resize(n); edge_map.resize(n);
+    dx.resize(n); dy.resize(n); mag.resize(n);
+    hist.resize(kMaxMagnitude + 1);
+    stack.resize(n);
+    // Worst cases bounded by the frame, so no later frame of this size grows them.
+    for (Curves* c : {&curves, &curves_scratch}) {
+      c->x.reserve(n); c->y.reserve(n); c->gx.reserve(n); c->gy.reserve(n);
+      c->offset.reserve(n + 1); c->sign_class.reserve(n);
+    }
+    trace.work.reserve(n);
+    trace.forward.reserve(n);
+    trace.backward.reserve(n);
+    hull.reserve(3 * n);
+    arc_scratch.polylines.vertex.reserve(n);
+    arc_scratch.polylines.offset.reserve(n + 1);
+    arc_scratch.splits.index.reserve(n);
+    arc_scratch.splits.offset.reserve(n + 1);
+    arc_scratch.stack.reserve(2 * n);
+    arc_scratch.stats.reserve(n);
+    arc_scratch.hull.reserve(3 * n);
+    arcs.reserve(n);
+    candidates.reserve(static_cast<std::size_t>(options.max_candidates));
+  }
+
+  Status Detect(const ImageView& image, DetectionResult* result);
+};
+
+Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
+  const auto t0 = Clock::now();
+  Resize(image.width, image.height);
+  const int w = width, h = height;
+  const KernelTable& k = *kernels;
+
+  // Edges (sec. II-A).
+  const std::uint8_t* src = image.data;
+  std::ptrdiff_t src_stride = image.stride;
+  if (options.gaussian_blur) {
+    k.gaussian(image.data, image.stride, w, h, blurred.data(), w);
+    src = blurred.data();
+    src_stride = w;
+  }
+  k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
+  k.magnitude_histogram(mag.data(), w, h, w, hist.data());
+  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(w) * h,
+                                                     options.canny_high_permille,
+                                                     options.canny_low_permille, options.canny_min_high);
+  k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
+  k.hysteresis(nms.data(), w, h, w, stack.data());
+  k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edge_map.data(), w);
+  const auto t1 = Clock::now();
+
+  // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
+  TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points, &curves, &trace);
+  FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
+  const auto t2 = Clock::now();
+
+  // Arcs (sec. II-B-1, II-B-2).
+  bool arcs_capped = false;
+  SelectArcs(k, curves, options, &arc_scratch, &arcs, &arcs_capped);
+  const auto t3 = Clock::now();
+
+  // Grouping, centres, parameters, validation by K and psi (sec. II-B-3 to II-D-2).
+  candidates.clear();
+  GroupStats gs;
+  if (arcs_capped) gs.caps_hit |= kCapArcs;
+  FindCandidates(curves, arcs, options, &groups, &candidates, &gs);
+  const auto t4 = Clock::now();
+
+  // Clustering (sec. II-D-3).
+  r->ellipses.clear();
+  ClusterCandidates(&candidates, options.cluster_distance, &r->ellipses);
+  const auto t5 = Clock::now();
+
+  r->backend = k.backend;
+  r->caps_hit = gs.caps_hit;
+  r->num_edge_pixels = 0;
+  for (std::size_t i = 0; i < edge_map.size(); ++i) r->num_edge_pixels += edge_map[i] != 0;
+  r->num_curves = curves.size();
+  r->num_arcs = static_cast<int>(arcs.size());
+  r->num_candidates = static_cast<int>(candidates.size());
+  r->timings.edges_ms = Ms(t0, t1);
+  r->timings.curves_ms = Ms(t1, t2);
+  r->timings.arcs_ms = Ms(t2, t3);
+  r->timings.fit_ms = Ms(t3, t4);
+  r->timings.validate_ms = Ms(t4, t5);
+  r->timings.total_ms = Ms(t0, t5);
+  return Status::Ok();
+}
+
+Detector::Detector(const Options& options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  impl_->status = ValidateOptions(options);
+  if (impl_->status.ok()) {
+    std::string why;
+    impl_->status = ResolveKernels(options.backend, &impl_->kernels, &why);
+  }
+}
+
+Detector::~Detector() = default;
+Detector::Detector(Detector&&) noexcept = default;
+Detector& Detector::operator=(Detector&&) noexcept = default;
+
+Status Detector::status() const { return impl_->status; }
+const Options& Detector::options() const { return impl_->options; }
+
+Status Detector::detect(const ImageView& image, DetectionResult* result) {
+  if (result == nullptr) return Invalid("result is null");
+  if (!impl_->status.ok()) return impl_->status;
+  Status st = ValidateImage(image, impl_->options);
+  if (!st.ok()) return st;
+  try {
+    return impl_->Detect(image, result);
+  } catch (const std::exception& e) {  // allocation failure on a first frame; nothing else throws
+    return {StatusCode::kInternal, std::string("detect failed: ") + e.what()};
+  }
+}
+
+}  // namespace ellipsekit

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Builds ellipsekit and runs the whole test suite with ctest.
+#   scripts/test.sh              Release build in build/
+#   scripts/test.sh --sanitize   RelWithDebInfo + AddressSanitizer/UBSan in build-asan/
+# The output ends with ctest's summary; the exit status is ctest's.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+sanitize=0
+for arg in "$@"; do
+  case "$arg" in
+    --sanitize) sanitize=1 ;;
+    -h|--help)
+      sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'
+      exit 0 ;;
+    *) echo "test.sh: unknown argument: $arg (accepted: --sanitize)" >&2; exit 2 ;;
+  esac
+done
+
+scripts/setup.sh
+
+if [[ $sanitize -eq 1 ]]; then
+  build_dir=build-asan
+  san_flags="-fsanitize=address,undefined -fno-omit-frame-pointer"
+  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS="$san_flags" \
+    -DCMAKE_EXE_LINKER_FLAGS="$san_flags" \
+    -DCMAKE_SHARED_LINKER_FLAGS="$san_flags" \
+    -DCMAKE_MODULE_LINKER_FLAGS="$san_flags" >/dev/null
+  # Make any sanitizer report fail the test that triggered it.
+  export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
+  export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+else
+  build_dir=build
+  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+
+cmake --build "$build_dir" -j2
+
+exec ctest --test-dir "$build_dir" --output-on-failure -j2

@@ -1,0 +1,30 @@
+# Runs PROGRAM with ARGS (a ;-list) and checks it: exit status EXPECT_RC, stdout matching
+# STDOUT_REGEX and stderr matching STDERR_REGEX (empty regex: not checked), and every path in
+# FILES existing afterwards. ARGS and FILES are '|'-separated. Used by the cli_* tests in
+# tools/cli/CMakeLists.txt.
+string(REPLACE "|" ";" ARGS "${ARGS}")
+string(REPLACE "|" ";" FILES "${FILES}")
+foreach(f IN LISTS FILES)
+  file(REMOVE_RECURSE ${f})
+endforeach()
+execute_process(COMMAND ${PROGRAM} ${ARGS}
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+set(problems "")
+if(NOT rc STREQUAL EXPECT_RC)
+  string(APPEND problems "exit status ${rc}, expected ${EXPECT_RC}\n")
+endif()
+if(NOT STDOUT_REGEX STREQUAL "" AND NOT out MATCHES "${STDOUT_REGEX}")
+  string(APPEND problems "stdout does not match: ${STDOUT_REGEX}\n")
+endif()
+if(NOT STDERR_REGEX STREQUAL "" AND NOT err MATCHES "${STDERR_REGEX}")
+  string(APPEND problems "stderr does not match: ${STDERR_REGEX}\n")
+endif()
+foreach(f IN LISTS FILES)
+  if(NOT EXISTS ${f})
+    string(APPEND problems "missing output: ${f}\n")
+  endif()
+endforeach()
+if(problems)
+  message(FATAL_ERROR "${PROGRAM} ${ARGS}\n${problems}--- stdout:\n${out}--- stderr:\n${err}")
+endif()
+message(STATUS "ok: ${PROGRAM} ${ARGS} -> ${rc}")
