@@ -31,9 +31,13 @@ install(TARGETS ellipsekit
   RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
   INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
 
+# The robot adapter (include/ellipsekit/robot/, library ellipsekit_robot) is a separate module and is
+# not part of the installed package yet; to ship it, install its target into ellipsekitTargets too and
+# drop the EXCLUDE below.
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/ellipsekit"
   DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
-  FILES_MATCHING PATTERN "*.h")
+  FILES_MATCHING PATTERN "*.h"
+  PATTERN "robot" EXCLUDE)
 
 install(EXPORT ellipsekitTargets
   NAMESPACE ellipsekit::

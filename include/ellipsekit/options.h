@@ -71,3 +71,17 @@ struct Options {
 };
 
 }  // namespace ellipsekit
+
+#include <string>
+
+#include "ellipsekit/types.h"
+
+namespace ellipsekit {
+
+// Sets one field from "name=value", with the field names of Options above (e.g.
+// "split_angle_deg=30", "inlier_rule=pixel", "center_method=arc_chords", "refine_fit=false").
+// Enumerations take: backend auto|scalar|simd|vulkan; center_method longest_chords|arc_chords;
+// obb_rule min_side|side_ratio; inlier_rule algebraic|pixel. Range checks are ValidateOptions'.
+Status SetOption(const std::string& assignment, Options* options);
+
+}  // namespace ellipsekit

@@ -70,4 +70,9 @@ Backend ParseBackendValue(const std::string& flag, const std::string& text) {
   return backend;
 }
 
+void ApplyOptionValue(const std::string& flag, const std::string& text, Options* options) {
+  const Status st = SetOption(text, options);
+  if (!st.ok()) throw UsageError(flag + ": " + st.message());
+}
+
 }  // namespace ellipsekit::cli

@@ -53,5 +53,7 @@ class ArgReader {
 int ParseIntValue(const std::string& flag, const std::string& text, int min_value, int max_value);
 std::uint64_t ParseUint64Value(const std::string& flag, const std::string& text);
 Backend ParseBackendValue(const std::string& flag, const std::string& text);
+// --option NAME=VALUE: sets one detector option (ellipsekit::SetOption); throws UsageError.
+void ApplyOptionValue(const std::string& flag, const std::string& text, Options* options);
 
 }  // namespace ellipsekit::cli

@@ -33,6 +33,7 @@ const char kDemoUsage[] =
     "Options:\n"
     "  --out DIR         output directory (default out/demo)\n"
     "  --backend B       auto (default), scalar, simd or vulkan\n"
+    "  --option NAME=VALUE  set a detector option (repeatable; names as in ellipsekit/options.h)\n"
     "  -h, --help        this text\n";
 
 #ifdef ELLIPSEKIT_HAVE_SCENES
@@ -52,7 +53,7 @@ struct DemoRow {
 
 int RunDemo(const std::vector<std::string>& argv) {
   std::string out = "out/demo";
-  Backend backend = Backend::kAuto;
+  Options options;
   ArgReader r(argv);
   while (r.Next()) {
     if (!r.IsFlag()) throw UsageError("unexpected argument '" + r.positional() + "'");
@@ -64,7 +65,9 @@ int RunDemo(const std::vector<std::string>& argv) {
       out = r.Value();
       if (out.empty()) throw UsageError("--out needs a directory");
     } else if (name == "--backend") {
-      backend = ParseBackendValue(name, r.Value());
+      options.backend = ParseBackendValue(name, r.Value());
+    } else if (name == "--option") {
+      ApplyOptionValue(name, r.Value(), &options);
     } else {
       throw UsageError("unknown option '" + name + "'");
     }
@@ -75,8 +78,6 @@ int RunDemo(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "ellipsekit demo: %s\n", error.c_str());
     return kExitFailure;
   }
-  Options options;
-  options.backend = backend;
   Detector detector(options);
   if (!detector.status().ok()) {
     std::fprintf(stderr, "ellipsekit demo: %s\n", detector.status().message().c_str());
@@ -87,7 +88,7 @@ int RunDemo(const std::vector<std::string>& argv) {
   std::vector<DemoRow> rows;
   eval::MatchCounts total;
   DetectionResult result;
-  Backend ran = backend;
+  Backend ran = options.backend;
   for (int i = 0; i < kDemoScenes; ++i) {
     const scenes::Scene scene = scenes::RenderScene(scenes::MixSeed(kDemoSeed, static_cast<std::uint64_t>(i)));
     if (scene.gray.empty() || scene.gray.type() != CV_8UC1) {
@@ -181,7 +182,7 @@ int RunDemo(const std::vector<std::string>& argv) {
               median_ms);
   return kExitOk;
 #else
-  (void)backend;
+  (void)options;
   std::fprintf(stderr, "ellipsekit demo: this build has no scene generator (tools/scenes)\n");
   return kExitFailure;
 #endif

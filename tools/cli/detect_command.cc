@@ -23,6 +23,7 @@ const char kDetectUsage[] =
     "\n"
     "Options:\n"
     "  --backend B       auto (default), scalar, simd or vulkan\n"
+    "  --option NAME=VALUE  set a detector option (repeatable; names as in ellipsekit/options.h)\n"
     "  --repeat R        timed detections per image, R >= 1 (default 1)\n"
     "  --warmup W        untimed detections per image before them, W >= 0 (default 1)\n"
     "  --format F        txt (default) or json\n"
@@ -41,7 +42,7 @@ const char kDetectUsage[] =
 namespace {
 
 struct DetectArgs {
-  Backend backend = Backend::kAuto;
+  Options options;
   int repeat = 1;
   int warmup = 1;
   bool json = false;
@@ -104,7 +105,9 @@ DetectArgs ParseDetectArgs(const std::vector<std::string>& argv, bool* help) {
       *help = true;
       return a;
     } else if (name == "--backend") {
-      a.backend = ParseBackendValue(name, r.Value());
+      a.options.backend = ParseBackendValue(name, r.Value());
+    } else if (name == "--option") {
+      ApplyOptionValue(name, r.Value(), &a.options);
     } else if (name == "--repeat") {
       a.repeat = ParseIntValue(name, r.Value(), 1, 1000000);
     } else if (name == "--warmup") {
@@ -139,8 +142,7 @@ int RunDetect(const std::vector<std::string>& argv) {
     return kExitFailure;
   }
 
-  Options options;
-  options.backend = args.backend;
+  const Options& options = args.options;
   Detector detector(options);
   if (!detector.status().ok()) {
     std::fprintf(stderr, "ellipsekit detect: %s\n", detector.status().message().c_str());

@@ -32,6 +32,7 @@ const char kEvalUsage[] =
     "\n"
     "Options:\n"
     "  --backend B       auto (default), scalar, simd or vulkan\n"
+    "  --option NAME=VALUE  set a detector option (repeatable; names as in ellipsekit/options.h)\n"
     "  --per-image       print one line per image before the totals\n"
     "  --json FILE       also write everything as JSON to FILE\n"
     "  -h, --help        this text\n"
@@ -41,7 +42,7 @@ namespace {
 
 struct EvalArgs {
   std::string dataset;
-  Backend backend = Backend::kAuto;
+  Options options;
   bool per_image = false;
   std::string json_path;
 };
@@ -67,7 +68,9 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
       *help = true;
       return a;
     } else if (name == "--backend") {
-      a.backend = ParseBackendValue(name, r.Value());
+      a.options.backend = ParseBackendValue(name, r.Value());
+    } else if (name == "--option") {
+      ApplyOptionValue(name, r.Value(), &a.options);
     } else if (name == "--per-image") {
       r.NoValue();
       a.per_image = true;
@@ -109,8 +112,7 @@ int RunEval(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "ellipsekit eval: %s\n", st.message().c_str());
     return kExitFailure;
   }
-  Options options;
-  options.backend = args.backend;
+  const Options& options = args.options;
   Detector detector(options);
   if (!detector.status().ok()) {
     std::fprintf(stderr, "ellipsekit eval: %s\n", detector.status().message().c_str());
@@ -120,7 +122,7 @@ int RunEval(const std::vector<std::string>& argv) {
   const bool progress = ::isatty(STDOUT_FILENO) == 1;
   bool failed = false;
   bool warmed_up = false;
-  Backend ran = args.backend;
+  Backend ran = args.options.backend;
   std::vector<ImageScore> scores;
   eval::MatchCounts total;
   DetectionResult result;

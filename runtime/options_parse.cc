@@ -1,0 +1,91 @@
+// SetOption: one Options field from "name=value" (CLI --option, configuration files).
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "ellipsekit/detector.h"
+#include "ellipsekit/options.h"
+
+namespace ellipsekit {
+
+namespace {
+
+bool ParseDouble(const std::string& s, double* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  *v = std::strtod(s.c_str(), &end);
+  return errno == 0 && end == s.c_str() + s.size();
+}
+
+bool ParseInt(const std::string& s, int* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  const long x = std::strtol(s.c_str(), &end, 10);
+  if (errno != 0 || end != s.c_str() + s.size() || x < -2147483647L || x > 2147483647L) return false;
+  *v = static_cast<int>(x);
+  return true;
+}
+
+bool ParseBool(const std::string& s, bool* v) {
+  if (s == "true" || s == "1" || s == "on") { *v = true; return true; }
+  if (s == "false" || s == "0" || s == "off") { *v = false; return true; }
+  return false;
+}
+
+}  // namespace
+
+Status SetOption(const std::string& assignment, Options* o) {
+  const std::size_t eq = assignment.find('=');
+  if (eq == std::string::npos) return {StatusCode::kInvalidArgument, "option '" + assignment + "' is not NAME=VALUE"};
+  const std::string name = assignment.substr(0, eq), value = assignment.substr(eq + 1);
+  auto bad = [&](const char* expected) {
+    return Status(StatusCode::kInvalidArgument, "option " + name + ": bad value '" + value + "', expected " + expected);
+  };
+  struct DoubleField { const char* name; double Options::*field; };
+  struct IntField { const char* name; int Options::*field; };
+  static const DoubleField doubles[] = {
+      {"obb_threshold", &Options::obb_threshold}, {"polyline_tolerance", &Options::polyline_tolerance},
+      {"split_angle_deg", &Options::split_angle_deg}, {"center_distance", &Options::center_distance},
+      {"mean_shift_bandwidth", &Options::mean_shift_bandwidth}, {"distance_ratio", &Options::distance_ratio},
+      {"length_ratio", &Options::length_ratio}, {"inlier_threshold", &Options::inlier_threshold},
+      {"circumference_ratio", &Options::circumference_ratio}, {"cluster_distance", &Options::cluster_distance},
+  };
+  static const IntField ints[] = {
+      {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},
+      {"canny_min_high", &Options::canny_min_high}, {"min_curve_points", &Options::min_curve_points},
+      {"max_arcs", &Options::max_arcs}, {"max_pairs", &Options::max_pairs},
+      {"max_triplets", &Options::max_triplets}, {"max_candidates", &Options::max_candidates},
+      {"max_mean_shift_iterations", &Options::max_mean_shift_iterations},
+      {"max_image_pixels", &Options::max_image_pixels},
+  };
+  for (const DoubleField& f : doubles) {
+    if (name == f.name) return ParseDouble(value, &(o->*f.field)) ? Status::Ok() : bad("a number");
+  }
+  for (const IntField& f : ints) {
+    if (name == f.name) return ParseInt(value, &(o->*f.field)) ? Status::Ok() : bad("an integer");
+  }
+  if (name == "gaussian_blur") return ParseBool(value, &o->gaussian_blur) ? Status::Ok() : bad("true or false");
+  if (name == "refine_fit") return ParseBool(value, &o->refine_fit) ? Status::Ok() : bad("true or false");
+  if (name == "backend") return ParseBackend(value.c_str(), &o->backend) ? Status::Ok() : bad("auto, scalar, simd or vulkan");
+  if (name == "center_method") {
+    if (value == "longest_chords") { o->center_method = CenterMethod::kLongestChords; return Status::Ok(); }
+    if (value == "arc_chords") { o->center_method = CenterMethod::kArcChords; return Status::Ok(); }
+    return bad("longest_chords or arc_chords");
+  }
+  if (name == "obb_rule") {
+    if (value == "min_side") { o->obb_rule = ObbRule::kMinSide; return Status::Ok(); }
+    if (value == "side_ratio") { o->obb_rule = ObbRule::kSideRatio; return Status::Ok(); }
+    return bad("min_side or side_ratio");
+  }
+  if (name == "inlier_rule") {
+    if (value == "algebraic") { o->inlier_rule = InlierRule::kAlgebraic; return Status::Ok(); }
+    if (value == "pixel") { o->inlier_rule = InlierRule::kPixel; return Status::Ok(); }
+    return bad("algebraic or pixel");
+  }
+  return {StatusCode::kInvalidArgument, "unknown option '" + name + "'"};
+}
+
+}  // namespace ellipsekit
