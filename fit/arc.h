@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include "ellipsekit/types.h"
 #include "kernels/arc_types.h"
 
 namespace ellipsekit {
@@ -18,5 +19,11 @@ struct Arc {
 };
 
 Arc ArcFromStats(const ArcStats& s);
+
+// A validated ellipse and the arc group it came from (indices into the frame's arcs).
+struct Candidate {
+  Ellipse ellipse;
+  int arcs[3] = {-1, -1, -1};
+};
 
 }  // namespace ellipsekit

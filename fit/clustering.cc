@@ -13,11 +13,13 @@ double FeatureDistance(const Ellipse& v, const Ellipse& w) {
   return std::sqrt(dcx * dcx + dcy * dcy + da * da + db * db + dr * dr);
 }
 
-void ClusterCandidates(std::vector<Ellipse>* candidates, double threshold, std::vector<Ellipse>* out) {
+int ClusterCandidates(std::vector<Candidate>* candidates, double threshold) {
   // Best score first; equal scores ordered by the parameters, so the order is total and the
   // result never depends on the sort algorithm.
-  std::vector<Ellipse>& c = *candidates;
-  std::sort(c.begin(), c.end(), [](const Ellipse& x, const Ellipse& y) {
+  std::vector<Candidate>& c = *candidates;
+  std::sort(c.begin(), c.end(), [](const Candidate& cx, const Candidate& cy) {
+    const Ellipse& x = cx.ellipse;
+    const Ellipse& y = cy.ellipse;
     if (x.score != y.score) return x.score > y.score;
     if (x.cx != y.cx) return x.cx < y.cx;
     if (x.cy != y.cy) return x.cy < y.cy;
@@ -25,14 +27,15 @@ void ClusterCandidates(std::vector<Ellipse>* candidates, double threshold, std::
     if (x.b != y.b) return x.b < y.b;
     return x.theta < y.theta;
   });
-  const std::size_t first = out->size();
-  for (const Ellipse& e : c) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
     bool duplicate = false;
-    for (std::size_t k = first; k < out->size() && !duplicate; ++k) {
-      duplicate = FeatureDistance(e, (*out)[k]) < threshold;
+    for (std::size_t k = 0; k < kept && !duplicate; ++k) {
+      duplicate = FeatureDistance(c[i].ellipse, c[k].ellipse) < threshold;
     }
-    if (!duplicate) out->push_back(e);
+    if (!duplicate) c[kept++] = c[i];
   }
+  return static_cast<int>(kept);
 }
 
 }  // namespace ellipsekit

@@ -7,12 +7,14 @@
 #include <vector>
 
 #include "ellipsekit/types.h"
+#include "fit/arc.h"
 
 namespace ellipsekit {
 
 double FeatureDistance(const Ellipse& v, const Ellipse& w);
 
-// Sorts `candidates` by score (in place) and appends the cluster references to `out`.
-void ClusterCandidates(std::vector<Ellipse>* candidates, double threshold, std::vector<Ellipse>* out);
+// Sorts `candidates` by score (in place) and moves the cluster references to its front;
+// returns how many there are.
+int ClusterCandidates(std::vector<Candidate>* candidates, double threshold);
 
 }  // namespace ellipsekit

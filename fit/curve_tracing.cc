@@ -8,24 +8,37 @@ namespace {
 
 constexpr int kStepX[8] = {1, 0, -1, 0, 1, -1, -1, 1};
 constexpr int kStepY[8] = {0, 1, 0, -1, 1, 1, -1, -1};
+constexpr int kStepOctant[8] = {0, 2, 4, 6, 1, 3, 5, 7};  // direction in units of 45 degrees
 
-// Follows the chain from `start` (already taken) and appends the pixels it reaches.
+int TurnOctants(int from, int to) {
+  const int d = (kStepOctant[to] - kStepOctant[from] + 8) % 8;
+  return d > 4 ? 8 - d : d;
+}
+
+// Follows the chain from `start` (already taken) and appends the pixels it reaches. At a
+// junction it takes the neighbour that turns least from the last step (ties: the order above),
+// so a rim keeps going where texture edges touch it instead of wandering off into them.
 void Follow(std::uint8_t* work, int width, int height, std::int32_t start, std::uint8_t cls,
             std::vector<std::int32_t>* chain) {
   std::int32_t cur = start;
+  int last = -1;  // index into kStep of the previous move
   for (;;) {
     const int cy = cur / width, cx = cur - cy * width;
-    std::int32_t next = -1;
+    int best = -1, best_turn = 5;
     for (int k = 0; k < 8; ++k) {
       const int nx = cx + kStepX[k], ny = cy + kStepY[k];
       if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-      const std::int32_t n = ny * width + nx;
-      if (work[n] == cls) { next = n; break; }
+      if (work[ny * width + nx] != cls) continue;
+      if (last < 0) { best = k; break; }
+      const int turn = TurnOctants(last, k);
+      if (turn < best_turn) { best_turn = turn; best = k; }
     }
-    if (next < 0) return;
+    if (best < 0) return;
+    const std::int32_t next = (cy + kStepY[best]) * width + cx + kStepX[best];
     work[next] = 0;
     chain->push_back(next);
     cur = next;
+    last = best;
   }
 }
 

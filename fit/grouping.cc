@@ -54,7 +54,7 @@ double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& 
 }  // namespace
 
 void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
-                    GroupScratch* s, std::vector<Ellipse>* candidates, GroupStats* stats) {
+                    GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   const int n = static_cast<int>(arcs.size());
   for (auto& q : s->by_quadrant) q.clear();
   for (int i = 0; i < n; ++i) s->by_quadrant[arcs[i].quadrant].push_back(i);
@@ -96,7 +96,6 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
         if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
         Ellipse e;
         if (!EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
-        if (options.refine_fit) RefineEllipse(curves, group, 3, &s->refine, &e);
         if (!(e.b >= 1.0)) continue;
         const double k = LengthRatio(group, 3, e);
         if (!(k > options.length_ratio)) continue;
@@ -107,7 +106,7 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
           return;
         }
         e.score = k + psi;
-        candidates->push_back(e);
+        candidates->push_back({e, {ab.prev, b, bc.next}});
       }
     }
   }

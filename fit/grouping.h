@@ -9,7 +9,7 @@
 // and must give a centre (center.h). A triplet is two pairs sharing their middle arc, which yields
 // exactly the paper's four kinds (I,II,III), (II,III,IV), (III,IV,I), (IV,I,II); its two pair
 // centres must lie within T_c. Then: the triplet centre, Gamma < T_f (midpoint distances),
-// parameters (eqs. 8-12, optionally refined), K(tau) > T_l and psi > T_psi.
+// parameters (eqs. 8-12), K(tau) > T_l and psi > T_psi, 
 #pragma once
 
 #include <vector>
@@ -44,6 +44,6 @@ struct GroupStats {
 
 // Appends validated candidates (score = K(tau) + psi) to `candidates`.
 void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
-                    GroupScratch* scratch, std::vector<Ellipse>* candidates, GroupStats* stats);
+                    GroupScratch* scratch, std::vector<Candidate>* candidates, GroupStats* stats);
 
 }  // namespace ellipsekit

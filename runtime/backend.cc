@@ -10,6 +10,10 @@
 #include "kernels/nms.h"
 #include "kernels/sobel.h"
 
+#ifdef ELLIPSEKIT_HAVE_SIMD
+#include "cpu/simd_kernels.h"
+#endif
+
 namespace ellipsekit {
 
 const KernelTable& ScalarKernels() {
@@ -30,18 +34,56 @@ const KernelTable& ScalarKernels() {
   return table;
 }
 
+#ifdef ELLIPSEKIT_HAVE_SIMD
+namespace {
+// Why ELLIPSEKIT_HWY_TARGET could not be honoured (empty when it was, or was not set).
+std::string& SimdTargetProblem() {
+  static std::string problem;
+  return problem;
+}
+}  // namespace
+
+// Highway kernels where they exist; hysteresis (a sequential flood fill) and the arc stage keep
+// the scalar references. ELLIPSEKIT_HWY_TARGET is read once, when the table is first resolved.
+const KernelTable& SimdKernels() {
+  static const KernelTable table = [] {
+    simd::ForceTargetFromEnv(&SimdTargetProblem());
+    KernelTable t = ScalarKernels();
+    t.backend = Backend::kSimd;
+    t.gaussian = simd::Gaussian;
+    t.sobel = simd::Sobel;
+    t.magnitude_histogram = simd::MagnitudeHistogram;
+    t.nms = simd::Nms;
+    t.edge_sign = simd::EdgeSign;
+    return t;
+  }();
+  return table;
+}
+#endif
+
 Status ResolveKernels(Backend requested, const KernelTable** table, std::string* why) {
   why->clear();
   switch (requested) {
     case Backend::kScalar:
       *table = &ScalarKernels();
       return Status::Ok();
+#ifdef ELLIPSEKIT_HAVE_SIMD
+    case Backend::kAuto:
+      *table = &SimdKernels();
+      *why = SimdTargetProblem();  // empty unless ELLIPSEKIT_HWY_TARGET was ignored
+      return Status::Ok();
+    case Backend::kSimd:
+      *table = &SimdKernels();
+      if (!SimdTargetProblem().empty()) return {StatusCode::kInvalidArgument, SimdTargetProblem()};
+      return Status::Ok();
+#else
     case Backend::kAuto:
       *table = &ScalarKernels();
       *why = "SIMD and Vulkan backends are not built in this version; using scalar";
       return Status::Ok();
     case Backend::kSimd:
       return {StatusCode::kUnavailable, "backend 'simd' is not available: the Highway kernels are not built in this version"};
+#endif
     case Backend::kVulkan:
       return {StatusCode::kUnavailable, "backend 'vulkan' is not available: the Vulkan kernels are not built in this version"};
   }

@@ -11,6 +11,7 @@
 #include "fit/clustering.h"
 #include "fit/curve_tracing.h"
 #include "fit/grouping.h"
+#include "fit/validation.h"
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
 
@@ -89,7 +90,7 @@ struct Detector::Impl {
   ArcScratch arc_scratch;
   std::vector<Arc> arcs;
   GroupScratch groups;
-  std::vector<Ellipse> candidates;
+  std::vector<Candidate> candidates;
 
   void Resize(int w, int h) {
     if (w == width && h == height) return;
@@ -165,8 +166,26 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const auto t4 = Clock::now();
 
   // Clustering (sec. II-D-3).
+  const int num_candidates = static_cast<int>(candidates.size());
+  const int kept = ClusterCandidates(&candidates, options.cluster_distance);
   r->ellipses.clear();
-  ClusterCandidates(&candidates, options.cluster_distance, &r->ellipses);
+  for (int i = 0; i < kept; ++i) {
+    const Candidate& c = candidates[i];
+    Ellipse e = c.ellipse;
+    if (options.refine_fit) {
+      // The refit only sharpens a group that validation accepted on the paper's estimate
+      // (refitting before validation lets wrong groups through: a least-squares fit fits
+      // anything), and is kept only when it explains the arcs at least as well.
+      const Arc* group[3] = {&arcs[c.arcs[0]], &arcs[c.arcs[1]], &arcs[c.arcs[2]]};
+      Ellipse refined = e;
+      if (RefineEllipse(curves, group, 3, &groups.refine, &refined) &&
+          CircumferenceRatio(curves, group, 3, refined, InlierRule::kPixel, 1.0) >=
+              CircumferenceRatio(curves, group, 3, e, InlierRule::kPixel, 1.0)) {
+        e = refined;
+      }
+    }
+    r->ellipses.push_back(e);
+  }
   const auto t5 = Clock::now();
 
   r->backend = k.backend;
@@ -175,7 +194,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   for (std::size_t i = 0; i < edge_map.size(); ++i) r->num_edge_pixels += edge_map[i] != 0;
   r->num_curves = curves.size();
   r->num_arcs = static_cast<int>(arcs.size());
-  r->num_candidates = static_cast<int>(candidates.size());
+  r->num_candidates = num_candidates;
   r->timings.edges_ms = Ms(t0, t1);
   r->timings.curves_ms = Ms(t1, t2);
   r->timings.arcs_ms = Ms(t2, t3);

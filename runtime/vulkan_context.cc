@@ -1,0 +1,266 @@
+#include "runtime/vulkan_context.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <vector>
+
+namespace ellipsekit {
+
+namespace {
+
+Status Unavailable(const std::string& why) { return {StatusCode::kUnavailable, "Vulkan unavailable: " + why}; }
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Preference order of device types: discrete, integrated, virtual, CPU, other.
+int TypeRank(VkPhysicalDeviceType t) {
+  switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+  }
+}
+
+}  // namespace
+
+const char* VkResultName(VkResult r) {
+  switch (r) {
+    case VK_SUCCESS: return "VK_SUCCESS";
+    case VK_NOT_READY: return "VK_NOT_READY";
+    case VK_TIMEOUT: return "VK_TIMEOUT";
+    case VK_INCOMPLETE: return "VK_INCOMPLETE";
+    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_MEMORY_MAP_FAILED: return "VK_ERROR_MEMORY_MAP_FAILED";
+    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    default: return "VkResult error";
+  }
+}
+
+Status VulkanContext::Create(std::unique_ptr<VulkanContext>* out) {
+  std::unique_ptr<VulkanContext> ctx(new VulkanContext());
+  Status st = ctx->Init();
+  if (!st.ok()) return st;
+  *out = std::move(ctx);
+  return Status::Ok();
+}
+
+Status VulkanContext::Init() {
+  library_ = dlopen("libvulkan.so.1", RTLD_NOW | RTLD_LOCAL);
+  if (library_ == nullptr) library_ = dlopen("libvulkan.so", RTLD_NOW | RTLD_LOCAL);
+  if (library_ == nullptr) return Unavailable("the Vulkan loader (libvulkan.so.1) is not installed");
+  vk_.vkGetInstanceProcAddr = reinterpret_cast<PFN_vkGetInstanceProcAddr>(dlsym(library_, "vkGetInstanceProcAddr"));
+  if (vk_.vkGetInstanceProcAddr == nullptr) return Unavailable("libvulkan.so.1 has no vkGetInstanceProcAddr");
+  vk_.vkCreateInstance = reinterpret_cast<PFN_vkCreateInstance>(vk_.vkGetInstanceProcAddr(nullptr, "vkCreateInstance"));
+  vk_.vkEnumerateInstanceVersion =
+      reinterpret_cast<PFN_vkEnumerateInstanceVersion>(vk_.vkGetInstanceProcAddr(nullptr, "vkEnumerateInstanceVersion"));
+  if (vk_.vkCreateInstance == nullptr) return Unavailable("the loader has no vkCreateInstance");
+  std::uint32_t loader_version = VK_API_VERSION_1_0;
+  if (vk_.vkEnumerateInstanceVersion != nullptr) vk_.vkEnumerateInstanceVersion(&loader_version);
+  if (loader_version < VK_API_VERSION_1_1) return Unavailable("the Vulkan loader supports only Vulkan 1.0 (1.1 needed)");
+
+  VkApplicationInfo app{};
+
+  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+  app.pApplicationName = "ellipsekit";
+  app.pEngineName = "ellipsekit";
+  app.apiVersion = VK_API_VERSION_1_1;
+  VkInstanceCreateInfo ici{};
+  ici.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+  ici.pApplicationInfo = &app;
+  VkResult r = vk_.vkCreateInstance(&ici, nullptr, &instance_);
+  if (r != VK_SUCCESS) return Unavailable(std::string("vkCreateInstance failed: ") + VkResultName(r));
+#define ELLIPSEKIT_VK_LOAD_INSTANCE(name)                                                  \
+  vk_.name = reinterpret_cast<PFN_##name>(vk_.vkGetInstanceProcAddr(instance_, #name)); \
+  if (vk_.name == nullptr) return Unavailable("the loader has no " #name);
+  ELLIPSEKIT_VK_INSTANCE_FUNCTIONS(ELLIPSEKIT_VK_LOAD_INSTANCE)
+#undef ELLIPSEKIT_VK_LOAD_INSTANCE
+
+  std::uint32_t count = 0;
+  r = vk_.vkEnumeratePhysicalDevices(instance_, &count, nullptr);
+  if (r != VK_SUCCESS || count == 0) return Unavailable("no Vulkan physical device (no GPU driver or ICD installed)");
+  std::vector<VkPhysicalDevice> devices(count);
+  vk_.vkEnumeratePhysicalDevices(instance_, &count, devices.data());
+  devices.resize(count);
+
+  // Candidates: Vulkan >= 1.1 with a compute queue family.
+  struct Candidate {
+    int index;
+    VkPhysicalDevice device;
+    VkPhysicalDeviceProperties props;
+    std::uint32_t family;
+    std::uint32_t timestamp_bits;
+  };
+  std::vector<Candidate> usable;
+  std::string listing;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    VkPhysicalDeviceProperties p;
+    vk_.vkGetPhysicalDeviceProperties(devices[i], &p);
+    listing += (listing.empty() ? "" : ", ") + std::to_string(i) + ": " + p.deviceName;
+    if (p.apiVersion < VK_API_VERSION_1_1) continue;
+    std::uint32_t nf = 0;
+    vk_.vkGetPhysicalDeviceQueueFamilyProperties(devices[i], &nf, nullptr);
+    std::vector<VkQueueFamilyProperties> families(nf);
+    vk_.vkGetPhysicalDeviceQueueFamilyProperties(devices[i], &nf, families.data());
+    // Prefer a compute-only family (async compute), else any with compute.
+    int best = -1;
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      if (!(families[f].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+      if (best < 0 || !(families[f].queueFlags & VK_QUEUE_GRAPHICS_BIT)) best = static_cast<int>(f);
+    }
+    if (best < 0) continue;
+    usable.push_back({static_cast<int>(i), devices[i], p, static_cast<std::uint32_t>(best),
+                      families[best].timestampValidBits});
+  }
+  if (usable.empty()) return Unavailable("no Vulkan 1.1 device with a compute queue among [" + listing + "]");
+
+  const Candidate* chosen = nullptr;
+  if (const char* env = std::getenv("ELLIPSEKIT_VK_DEVICE"); env != nullptr && *env != '\0') {
+    const std::string want(env);
+    const bool numeric = std::all_of(want.begin(), want.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+    for (const Candidate& c : usable) {
+      if (numeric ? c.index == std::atoi(env) : Lower(c.props.deviceName).find(Lower(want)) != std::string::npos) {
+        chosen = &c;
+        break;
+      }
+    }
+    if (chosen == nullptr)
+      return Unavailable("ELLIPSEKIT_VK_DEVICE='" + want + "' matches no usable device among [" + listing + "]");
+  } else {
+    chosen = &*std::min_element(usable.begin(), usable.end(), [](const Candidate& a, const Candidate& b) {
+      return TypeRank(a.props.deviceType) < TypeRank(b.props.deviceType);
+    });
+  }
+  physical_ = chosen->device;
+  properties_ = chosen->props;
+  device_name_ = chosen->props.deviceName;
+  queue_family_ = chosen->family;
+  timestamp_valid_bits_ = chosen->timestamp_bits;
+  timestamp_period_ns_ = timestamp_valid_bits_ != 0 ? chosen->props.limits.timestampPeriod : 0.0;
+  vk_.vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{};
+  qci.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+  qci.queueFamilyIndex = queue_family_;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  VkDeviceCreateInfo dci{};
+  dci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  r = vk_.vkCreateDevice(physical_, &dci, nullptr, &device_);
+  if (r != VK_SUCCESS) return Unavailable("vkCreateDevice on '" + device_name_ + "' failed: " + VkResultName(r));
+#define ELLIPSEKIT_VK_LOAD_DEVICE(name)                                                 \
+  vk_.name = reinterpret_cast<PFN_##name>(vk_.vkGetDeviceProcAddr(device_, #name));    \
+  if (vk_.name == nullptr) return Unavailable("the device has no " #name);
+  ELLIPSEKIT_VK_DEVICE_FUNCTIONS(ELLIPSEKIT_VK_LOAD_DEVICE)
+#undef ELLIPSEKIT_VK_LOAD_DEVICE
+  vk_.vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+
+  VkPipelineCacheCreateInfo pcci{};
+
+  pcci.sType = VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO;
+  r = vk_.vkCreatePipelineCache(device_, &pcci, nullptr, &pipeline_cache_);
+  if (r != VK_SUCCESS) return {StatusCode::kInternal, std::string("vkCreatePipelineCache failed: ") + VkResultName(r)};
+  return Status::Ok();
+}
+
+VulkanContext::~VulkanContext() {
+  if (device_ != VK_NULL_HANDLE) {
+    vk_.vkDeviceWaitIdle(device_);
+    if (pipeline_cache_ != VK_NULL_HANDLE) vk_.vkDestroyPipelineCache(device_, pipeline_cache_, nullptr);
+    vk_.vkDestroyDevice(device_, nullptr);
+  }
+  if (instance_ != VK_NULL_HANDLE && vk_.vkDestroyInstance != nullptr) vk_.vkDestroyInstance(instance_, nullptr);
+  if (library_ != nullptr) dlclose(library_);
+}
+
+Status VulkanContext::CreateBuffer(VkDeviceSize size, bool host_visible, VulkanBuffer* out) {
+  *out = VulkanBuffer{};
+  size = std::max<VkDeviceSize>(size, 4);
+  VkBufferCreateInfo bci{};
+  bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+  bci.size = size;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkResult r = vk_.vkCreateBuffer(device_, &bci, nullptr, &out->buffer);
+  if (r != VK_SUCCESS) return {StatusCode::kInternal, std::string("vkCreateBuffer failed: ") + VkResultName(r)};
+  out->size = size;
+  VkMemoryRequirements req;
+  vk_.vkGetBufferMemoryRequirements(device_, out->buffer, &req);
+  // Host-visible: prefer coherent (+ cached for readback); device-local otherwise.
+  const VkMemoryPropertyFlags wants[2][2] = {
+      {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0},
+      {VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}};
+  int type = -1;
+  for (VkMemoryPropertyFlags want : wants[host_visible ? 1 : 0]) {
+    for (std::uint32_t t = 0; t < memory_.memoryTypeCount && type < 0; ++t) {
+      if ((req.memoryTypeBits & (1u << t)) && (memory_.memoryTypes[t].propertyFlags & want) == want) type = static_cast<int>(t);
+    }
+    if (type >= 0) break;
+  }
+  if (type < 0) {
+    DestroyBuffer(out);
+    return {StatusCode::kInternal, "no Vulkan memory type fits a storage buffer"};
+  }
+  VkMemoryAllocateInfo mai{};
+  mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = static_cast<std::uint32_t>(type);
+  r = vk_.vkAllocateMemory(device_, &mai, nullptr, &out->memory);
+  if (r != VK_SUCCESS) {
+    DestroyBuffer(out);
+    return {StatusCode::kInternal, std::string("vkAllocateMemory failed: ") + VkResultName(r)};
+  }
+  vk_.vkBindBufferMemory(device_, out->buffer, out->memory, 0);
+  if (host_visible) {
+    out->coherent = (memory_.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0;
+    r = vk_.vkMapMemory(device_, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
+    if (r != VK_SUCCESS) {
+      DestroyBuffer(out);
+      return {StatusCode::kInternal, std::string("vkMapMemory failed: ") + VkResultName(r)};
+    }
+  }
+  return Status::Ok();
+}
+
+void VulkanContext::DestroyBuffer(VulkanBuffer* b) {
+  if (b->mapped != nullptr) vk_.vkUnmapMemory(device_, b->memory);
+  if (b->buffer != VK_NULL_HANDLE) vk_.vkDestroyBuffer(device_, b->buffer, nullptr);
+  if (b->memory != VK_NULL_HANDLE) vk_.vkFreeMemory(device_, b->memory, nullptr);
+  *b = VulkanBuffer{};
+}
+
+void VulkanContext::FlushHostWrites(const VulkanBuffer& b) {
+  if (b.coherent || b.mapped == nullptr) return;
+  VkMappedMemoryRange range{};
+  range.sType = VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE;
+  range.memory = b.memory;
+  range.size = VK_WHOLE_SIZE;
+  vk_.vkFlushMappedMemoryRanges(device_, 1, &range);
+}
+
+void VulkanContext::InvalidateForHostReads(const VulkanBuffer& b) {
+  if (b.coherent || b.mapped == nullptr) return;
+  VkMappedMemoryRange range{};
+  range.sType = VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE;
+  range.memory = b.memory;
+  range.size = VK_WHOLE_SIZE;
+  vk_.vkInvalidateMappedMemoryRanges(device_, 1, &range);
+}
+
+}  // namespace ellipsekit
