@@ -13,7 +13,22 @@ double FeatureDistance(const Ellipse& v, const Ellipse& w) {
   return std::sqrt(dcx * dcx + dcy * dcy + da * da + db * db + dr * dr);
 }
 
-int ClusterCandidates(std::vector<Candidate>* candidates, double threshold) {
+bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options) {
+  if (options.cluster_rule == ClusterRule::kFeatureDistance) {
+    return FeatureDistance(v, w) < options.cluster_distance;
+  }
+  const double t = options.cluster_relative;
+  if (std::hypot(v.cx - w.cx, v.cy - w.cy) > t * std::min(v.b, w.b)) return false;
+  if (std::abs(v.a - w.a) > t * std::max(v.a, w.a)) return false;
+  if (std::abs(v.b - w.b) > t * std::max(v.b, w.b)) return false;
+  const bool round = v.b > 0.9 * v.a && w.b > 0.9 * w.a;  // orientation means little
+  if (round) return true;
+  double dr = std::fmod(std::abs(v.theta - w.theta), std::numbers::pi);
+  dr = std::min(dr, std::numbers::pi - dr);
+  return dr <= t;
+}
+
+int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options) {
   // Best score first; equal scores ordered by the parameters, so the order is total and the
   // result never depends on the sort algorithm.
   std::vector<Candidate>& c = *candidates;
@@ -31,7 +46,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, double threshold) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     bool duplicate = false;
     for (std::size_t k = 0; k < kept && !duplicate; ++k) {
-      duplicate = FeatureDistance(c[i].ellipse, c[k].ellipse) < threshold;
+      duplicate = SameEllipse(c[i].ellipse, c[k].ellipse, options);
     }
     if (!duplicate) c[kept++] = c[i];
   }

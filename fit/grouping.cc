@@ -96,11 +96,14 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
         if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
         Ellipse e;
         if (!EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
+        // The refit (our addition) replaces the estimate before validation; it fits a true
+        // group to the pixel, so psi can be held to a much stricter bar (README: measured).
+        const bool refined = options.refine_fit && RefineEllipse(curves, group, 3, &s->refine, &e);
         if (!(e.b >= 1.0)) continue;
         const double k = LengthRatio(group, 3, e);
         if (!(k > options.length_ratio)) continue;
         const double psi = CircumferenceRatio(curves, group, 3, e, options.inlier_rule, options.inlier_threshold);
-        if (!(psi > options.circumference_ratio)) continue;
+        if (!(psi > (refined ? options.refined_circumference_ratio : options.circumference_ratio))) continue;
         if (static_cast<int>(candidates->size()) >= options.max_candidates) {
           stats->caps_hit |= kCapCandidates;
           return;

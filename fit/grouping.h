@@ -9,7 +9,8 @@
 // and must give a centre (center.h). A triplet is two pairs sharing their middle arc, which yields
 // exactly the paper's four kinds (I,II,III), (II,III,IV), (III,IV,I), (IV,I,II); its two pair
 // centres must lie within T_c. Then: the triplet centre, Gamma < T_f (midpoint distances),
-// parameters (eqs. 8-12), K(tau) > T_l and psi > T_psi, 
+// parameters (eqs. 8-12), optionally refitted (conic_refine.h), K(tau) > T_l and psi > T_psi
+// (refined_circumference_ratio for a refitted ellipse). 
 #pragma once
 
 #include <vector>

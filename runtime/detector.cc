@@ -11,7 +11,6 @@
 #include "fit/clustering.h"
 #include "fit/curve_tracing.h"
 #include "fit/grouping.h"
-#include "fit/validation.h"
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
 
@@ -48,7 +47,11 @@ Status ValidateOptions(const Options& o) {
   if (!Finite(o.inlier_threshold) || o.inlier_threshold <= 0) return Invalid("inlier_threshold (T_d) must be > 0");
   if (!Finite(o.circumference_ratio) || o.circumference_ratio < 0 || o.circumference_ratio > 1)
     return Invalid("circumference_ratio (T_psi) must be in [0, 1]");
+  if (!Finite(o.refined_circumference_ratio) || o.refined_circumference_ratio < 0 || o.refined_circumference_ratio > 1)
+    return Invalid("refined_circumference_ratio must be in [0, 1]");
   if (!Finite(o.cluster_distance) || o.cluster_distance < 0) return Invalid("cluster_distance (T_s) must be >= 0");
+  if (!Finite(o.cluster_relative) || o.cluster_relative < 0 || o.cluster_relative > 1)
+    return Invalid("cluster_relative must be in [0, 1]");
   if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
     return Invalid("caps (max_arcs, max_pairs, max_triplets, max_candidates, max_mean_shift_iterations) must be >= 1");
   if (o.max_image_pixels < 1) return Invalid("max_image_pixels must be >= 1");
@@ -167,25 +170,9 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
 
   // Clustering (sec. II-D-3).
   const int num_candidates = static_cast<int>(candidates.size());
-  const int kept = ClusterCandidates(&candidates, options.cluster_distance);
+  const int kept = ClusterCandidates(&candidates, options);
   r->ellipses.clear();
-  for (int i = 0; i < kept; ++i) {
-    const Candidate& c = candidates[i];
-    Ellipse e = c.ellipse;
-    if (options.refine_fit) {
-      // The refit only sharpens a group that validation accepted on the paper's estimate
-      // (refitting before validation lets wrong groups through: a least-squares fit fits
-      // anything), and is kept only when it explains the arcs at least as well.
-      const Arc* group[3] = {&arcs[c.arcs[0]], &arcs[c.arcs[1]], &arcs[c.arcs[2]]};
-      Ellipse refined = e;
-      if (RefineEllipse(curves, group, 3, &groups.refine, &refined) &&
-          CircumferenceRatio(curves, group, 3, refined, InlierRule::kPixel, 1.0) >=
-              CircumferenceRatio(curves, group, 3, e, InlierRule::kPixel, 1.0)) {
-        e = refined;
-      }
-    }
-    r->ellipses.push_back(e);
-  }
+  for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);
   const auto t5 = Clock::now();
 
   r->backend = k.backend;

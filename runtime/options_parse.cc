@@ -51,7 +51,9 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"split_angle_deg", &Options::split_angle_deg}, {"center_distance", &Options::center_distance},
       {"mean_shift_bandwidth", &Options::mean_shift_bandwidth}, {"distance_ratio", &Options::distance_ratio},
       {"length_ratio", &Options::length_ratio}, {"inlier_threshold", &Options::inlier_threshold},
-      {"circumference_ratio", &Options::circumference_ratio}, {"cluster_distance", &Options::cluster_distance},
+      {"circumference_ratio", &Options::circumference_ratio},
+      {"refined_circumference_ratio", &Options::refined_circumference_ratio}, {"cluster_distance", &Options::cluster_distance},
+      {"cluster_relative", &Options::cluster_relative},
   };
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},
@@ -84,6 +86,11 @@ Status SetOption(const std::string& assignment, Options* o) {
     if (value == "algebraic") { o->inlier_rule = InlierRule::kAlgebraic; return Status::Ok(); }
     if (value == "pixel") { o->inlier_rule = InlierRule::kPixel; return Status::Ok(); }
     return bad("algebraic or pixel");
+  }
+  if (name == "cluster_rule") {
+    if (value == "feature_distance") { o->cluster_rule = ClusterRule::kFeatureDistance; return Status::Ok(); }
+    if (value == "relative") { o->cluster_rule = ClusterRule::kRelative; return Status::Ok(); }
+    return bad("feature_distance or relative");
   }
   return {StatusCode::kInvalidArgument, "unknown option '" + name + "'"};
 }
