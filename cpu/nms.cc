@@ -1,0 +1,137 @@
+// nms, Highway version. Contract: kernels/nms.h (fixed-point direction test, thresholds, border
+// rows and columns 0, exact).
+//
+// Interior pixels x in [1, width - 2] of rows 1..height-2 go N at a time in int32 lanes: the
+// direction test compares (|dy| << 15) with 13573 |dx| and 79109 |dx|, which reach 80.7e6 and
+// need 32 bits. All three candidate neighbour pairs are loaded and the pair is chosen per lane
+// with masks, so each lane makes exactly the reference's comparisons:
+//   horizontal: m >  mag(x-1, y)   and m >= mag(x+1, y)
+//   vertical:   m >  mag(x, y-1)   and m >= mag(x, y+1)
+//   diagonal:   m >  mag(x-s, y-1) and m >  mag(x+s, y+1),  s = +1 when dx, dy share a sign.
+// The row tail shorter than a vector uses the reference code per pixel.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "cpu/nms.cc"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+
+#include "cpu/simd_kernels.h"
+#include "kernels/nms.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ellipsekit {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// One interior pixel exactly as kernels/nms.cc classifies it.
+HWY_INLINE std::uint8_t NmsPixel(const std::uint16_t* mp, const std::uint16_t* mc,
+                                 const std::uint16_t* mn, const std::int16_t* gx,
+                                 const std::int16_t* gy, int x, int low, int high) {
+  const int m = mc[x];
+  if (m <= low) return kNmsNone;
+  const std::int32_t ax = std::abs(gx[x]), ay = std::abs(gy[x]);
+  const std::int32_t ay15 = ay << 15;
+  bool is_max;
+  if (ay15 < kTan22Q15 * ax) {
+    is_max = m > mc[x - 1] && m >= mc[x + 1];
+  } else if (ay15 > kTan67Q15 * ax) {
+    is_max = m > mp[x] && m >= mn[x];
+  } else {
+    const int s = ((gx[x] ^ gy[x]) < 0) ? -1 : 1;
+    is_max = m > mp[x - s] && m > mn[x + s];
+  }
+  if (!is_max) return kNmsNone;
+  return (m > high) ? kNmsStrong : kNmsWeak;
+}
+
+template <class D32, class D16>
+HWY_INLINE hn::Vec<D32> LoadMag(D32 d32, D16 du16, const std::uint16_t* p) {
+  return hn::PromoteTo(d32, hn::LoadU(du16, p));
+}
+
+void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
+             int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+             std::ptrdiff_t out_stride) {
+  const hn::ScalableTag<std::int32_t> d32;
+  const hn::Rebind<std::int16_t, decltype(d32)> di16;
+  const hn::Rebind<std::uint16_t, decltype(d32)> du16;
+  const hn::Rebind<std::uint8_t, decltype(d32)> du8;
+  const int n = static_cast<int>(hn::Lanes(d32));
+  const auto tan22 = hn::Set(d32, kTan22Q15);
+  const auto tan67 = hn::Set(d32, kTan67Q15);
+  const auto low_v = hn::Set(d32, low);
+  const auto high_v = hn::Set(d32, high);
+  const auto zero = hn::Zero(d32);
+  const auto weak = hn::Set(d32, kNmsWeak);
+  const auto strong = hn::Set(d32, kNmsStrong);
+  for (int y = 0; y < height; ++y) {
+    std::uint8_t* o = out + y * out_stride;
+    if (y == 0 || y == height - 1 || width < 3) {
+      std::memset(o, 0, static_cast<std::size_t>(width));
+      continue;
+    }
+    const std::uint16_t* mp = mag + (y - 1) * stride;
+    const std::uint16_t* mc = mag + y * stride;
+    const std::uint16_t* mn = mag + (y + 1) * stride;
+    const std::int16_t* gx = dx + y * stride;
+    const std::int16_t* gy = dy + y * stride;
+    o[0] = kNmsNone;
+    o[width - 1] = kNmsNone;
+    int x = 1;
+    // The loads reach x + n, which must stay <= width - 1.
+    for (; x + n <= width - 1; x += n) {
+      const auto gxv = hn::PromoteTo(d32, hn::LoadU(di16, gx + x));
+      const auto gyv = hn::PromoteTo(d32, hn::LoadU(di16, gy + x));
+      const auto ax = hn::Abs(gxv);
+      const auto ay15 = hn::ShiftLeft<15>(hn::Abs(gyv));
+      const auto horizontal = hn::Lt(ay15, hn::Mul(tan22, ax));
+      const auto vertical = hn::AndNot(horizontal, hn::Gt(ay15, hn::Mul(tan67, ax)));
+      const auto diagonal = hn::Not(hn::Or(horizontal, vertical));
+      // s = -1 (opposite signs): neighbours (x+1, y-1), (x-1, y+1); s = +1: (x-1, y-1), (x+1, y+1).
+      const auto opposite = hn::Lt(hn::Xor(gxv, gyv), zero);
+
+      const auto m = LoadMag(d32, du16, mc + x);
+      const auto c_left = LoadMag(d32, du16, mc + x - 1), c_right = LoadMag(d32, du16, mc + x + 1);
+      const auto p_left = LoadMag(d32, du16, mp + x - 1), p_mid = LoadMag(d32, du16, mp + x),
+                 p_right = LoadMag(d32, du16, mp + x + 1);
+      const auto n_left = LoadMag(d32, du16, mn + x - 1), n_mid = LoadMag(d32, du16, mn + x),
+                 n_right = LoadMag(d32, du16, mn + x + 1);
+
+      const auto diag_first = hn::IfThenElse(opposite, p_right, p_left);
+      const auto diag_second = hn::IfThenElse(opposite, n_left, n_right);
+      const auto first = hn::IfThenElse(horizontal, c_left, hn::IfThenElse(vertical, p_mid, diag_first));
+      const auto second =
+          hn::IfThenElse(horizontal, c_right, hn::IfThenElse(vertical, n_mid, diag_second));
+      // Diagonal needs m > second; the other two directions m >= second.
+      // (Highway 1.0 has no integer >= on x86, hence > or ==.)
+      const auto second_ok = hn::Or(hn::Gt(m, second), hn::AndNot(diagonal, hn::Eq(m, second)));
+      const auto is_edge = hn::And(hn::And(hn::Gt(m, low_v), hn::Gt(m, first)), second_ok);
+      const auto cls = hn::IfThenElseZero(is_edge, hn::IfThenElse(hn::Gt(m, high_v), strong, weak));
+      hn::StoreU(hn::DemoteTo(du8, cls), du8, o + x);
+    }
+    for (; x < width - 1; ++x) o[x] = NmsPixel(mp, mc, mn, gx, gy, x, low, high);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ellipsekit
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace ellipsekit::simd {
+
+HWY_EXPORT(NmsImpl);
+
+void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
+         int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+         std::ptrdiff_t out_stride) {
+  HWY_DYNAMIC_DISPATCH(NmsImpl)(dx, dy, mag, width, height, stride, low, high, out, out_stride);
+}
+
+}  // namespace ellipsekit::simd
+#endif  // HWY_ONCE

@@ -1,0 +1,37 @@
+// canny_thresholds: the SIMD backend's magnitude histogram equals the scalar reference's
+// (kernels/canny_thresholds.h), so the thresholds agree too.
+#include <gtest/gtest.h>
+
+#ifdef ELLIPSEKIT_HAVE_SIMD
+#include "kernels/canny_thresholds.h"
+#include "tests/conformance_util.h"
+
+namespace ellipsekit::conformance {
+namespace {
+
+void CheckHistogram(const std::string& what, const Gradients& g) {
+  ExpectAllTargetsMatchScalar("magnitude_histogram " + what, [&](const KernelTable& k) {
+    std::vector<Plane> out;
+    out.push_back(MakePlane<std::uint32_t>("hist", kMaxMagnitude + 1, 1, kMaxMagnitude + 1));
+    k.magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, out[0].data<std::uint32_t>());
+    return out;
+  });
+}
+
+TEST(ConformanceCannyThresholds, AllImagesAllTargets) {
+  for (const ImageCase& c : ConformanceImages()) CheckHistogram(SizeOf(c), GradientsOf(c));
+}
+
+TEST(ConformanceCannyThresholds, FullMagnitudeRange) {
+  std::uint32_t seed = 100;
+  for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {5, 7}, {67, 5}, {640, 480}}) {
+    CheckHistogram("random gradients " + std::to_string(w) + "x" + std::to_string(h),
+                   RandomGradients(w, h, w + 3, 1020, seed++));
+  }
+}
+
+}  // namespace
+}  // namespace ellipsekit::conformance
+#else
+TEST(ConformanceCannyThresholds, SimdNotBuilt) { GTEST_SKIP() << "Highway not found at configure time"; }
+#endif

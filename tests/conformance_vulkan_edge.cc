@@ -1,0 +1,282 @@
+// Conformance: the Vulkan edge stage (runtime/vulkan_edge_stage.h) against the scalar kernels,
+// bit for bit: dx, dy and the sign-classified edge map, with and without the Gaussian pre-filter.
+// No Vulkan device -> the tests skip with the reason, except under CI=true (CI has lavapipe),
+// where that is a failure. ELLIPSEKIT_VK_TIMING=1 also prints warm timings (best of 10).
+#include <gtest/gtest.h>
+
+#if defined(ELLIPSEKIT_HAVE_VULKAN)
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "ellipsekit/options.h"
+#include "kernels/canny_thresholds.h"
+#include "kernels/edge_sign.h"
+#include "kernels/gaussian.h"
+#include "kernels/hysteresis.h"
+#include "kernels/nms.h"
+#include "kernels/sobel.h"
+#include "runtime/vulkan_edge_stage.h"
+
+namespace ellipsekit {
+namespace {
+
+struct Edges {
+  std::vector<std::int16_t> dx, dy;
+  std::vector<std::uint8_t> edge_map;
+};
+
+// The scalar edge stage exactly as runtime/detector.cc runs it.
+void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
+  const int w = image.width, h = image.height;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  std::vector<std::uint8_t> blurred(n), nms(n);
+  std::vector<std::uint16_t> mag(n);
+  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
+  std::vector<std::int32_t> stack(n);
+  out->dx.assign(n, 0);
+  out->dy.assign(n, 0);
+  out->edge_map.assign(n, 0);
+  const std::uint8_t* src = image.data;
+  std::ptrdiff_t src_stride = image.stride;
+  if (o.gaussian_blur) {
+    scalar::Gaussian(image.data, image.stride, w, h, blurred.data(), w);
+    src = blurred.data();
+    src_stride = w;
+  }
+  scalar::Sobel(src, src_stride, w, h, out->dx.data(), out->dy.data(), mag.data(), w);
+  scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
+  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(n), o.canny_high_permille,
+                                                     o.canny_low_permille, o.canny_min_high);
+  scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
+  scalar::Hysteresis(nms.data(), w, h, w, stack.data());
+  scalar::EdgeSign(nms.data(), w, out->dx.data(), out->dy.data(), w, w, h, out->edge_map.data(), w);
+}
+
+// One stage for the whole binary (creating a device per test would dominate the run time).
+VulkanEdgeStage* Stage(std::string* why) {
+  static std::unique_ptr<VulkanEdgeStage> stage;
+  static Status status = VulkanEdgeStage::Create(&stage);
+  *why = status.message();
+  return stage.get();
+}
+
+bool InCi() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && std::string(ci) == "true";
+}
+
+#define REQUIRE_VULKAN(stage)                                                            \
+  std::string why_;                                                                      \
+  VulkanEdgeStage* stage = Stage(&why_);                                                 \
+  if (stage == nullptr) {                                                                \
+    if (InCi()) FAIL() << "CI=true but no Vulkan device: " << why_;                       \
+    GTEST_SKIP() << why_;                                                                \
+  }
+
+// First mismatch, for a readable failure.
+template <typename T>
+std::string FirstDiff(const std::vector<T>& a, const std::vector<T>& b, int w) {
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i] != b[i])
+      return "at (" + std::to_string(i % w) + ", " + std::to_string(i / w) + "): scalar " + std::to_string(a[i]) +
+             ", vulkan " + std::to_string(b[i]);
+  return "";
+}
+
+void ExpectSame(VulkanEdgeStage* stage, const ImageView& image, const Options& o, const std::string& what) {
+  Edges want, got;
+  ScalarEdges(image, o, &want);
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  // Sentinel-filled outputs: every element must be written.
+  got.dx.assign(n, 0x5a5a);
+  got.dy.assign(n, 0x5a5a);
+  got.edge_map.assign(n, 0xa5);
+  const Status st = stage->Run(image, o, got.dx.data(), got.dy.data(), got.edge_map.data());
+  ASSERT_TRUE(st.ok()) << what << ": " << st.message();
+  const std::string tag = what + (o.gaussian_blur ? " (blur)" : " (no blur)");
+  EXPECT_TRUE(want.dx == got.dx) << tag << " dx " << FirstDiff(want.dx, got.dx, image.width);
+  EXPECT_TRUE(want.dy == got.dy) << tag << " dy " << FirstDiff(want.dy, got.dy, image.width);
+  EXPECT_TRUE(want.edge_map == got.edge_map) << tag << " edge_map " << FirstDiff(want.edge_map, got.edge_map, image.width);
+}
+
+void ExpectSameBothBlurs(VulkanEdgeStage* stage, const ImageView& image, const std::string& what) {
+  for (bool blur : {true, false}) {
+    Options o;
+    o.gaussian_blur = blur;
+    ExpectSame(stage, image, o, what);
+  }
+}
+
+std::vector<std::uint8_t> Noise(int w, int h, std::ptrdiff_t stride, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::uint8_t> img(static_cast<std::size_t>(stride) * h, 0xee);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img[y * stride + x] = static_cast<std::uint8_t>(rng() & 255);
+  return img;
+}
+
+// Random filled rectangles and discs: long, connected edges (many hysteresis tiles crossed).
+std::vector<std::uint8_t> Shapes(int w, int h, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::uint8_t> img(static_cast<std::size_t>(w) * h);
+  for (auto& v : img) v = static_cast<std::uint8_t>(100 + rng() % 8);
+  for (int s = 0; s < 40; ++s) {
+    const int cx = rng() % w, cy = rng() % h, r = 3 + rng() % std::max(4, std::min(w, h) / 4);
+    const std::uint8_t v = static_cast<std::uint8_t>(rng() & 255);
+    const bool disc = rng() & 1;
+    for (int y = std::max(0, cy - r); y < std::min(h, cy + r); ++y)
+      for (int x = std::max(0, cx - r); x < std::min(w, cx + r); ++x)
+        if (!disc || (x - cx) * (x - cx) + (y - cy) * (y - cy) < r * r) img[y * w + x] = v;
+  }
+  return img;
+}
+
+TEST(ConformanceVulkanEdge, RandomSizes) {
+  REQUIRE_VULKAN(stage);
+  const int sizes[][2] = {{1, 1}, {2, 3}, {7, 5}, {33, 17}, {640, 480}, {1920, 1080}};
+  std::uint32_t seed = 1234;
+  for (const auto& s : sizes) {
+    const int w = s[0], h = s[1];
+    auto noise = Noise(w, h, w, seed++);
+    ExpectSameBothBlurs(stage, ImageView{noise.data(), w, h, w}, "noise " + std::to_string(w) + "x" + std::to_string(h));
+    auto shapes = Shapes(w, h, seed++);
+    ExpectSameBothBlurs(stage, ImageView{shapes.data(), w, h, w}, "shapes " + std::to_string(w) + "x" + std::to_string(h));
+  }
+}
+
+TEST(ConformanceVulkanEdge, OddSizesAndPaddedStride) {
+  REQUIRE_VULKAN(stage);
+  const int sizes[][2] = {{3, 1}, {1, 4}, {15, 16}, {16, 15}, {17, 17}, {255, 3}, {3, 257}, {101, 67}};
+  std::uint32_t seed = 99;
+  for (const auto& s : sizes) {
+    const int w = s[0], h = s[1];
+    const std::ptrdiff_t stride = w + 13;
+    auto img = Noise(w, h, stride, seed++);
+    ExpectSameBothBlurs(stage, ImageView{img.data(), w, h, stride}, "padded " + std::to_string(w) + "x" + std::to_string(h));
+  }
+}
+
+TEST(ConformanceVulkanEdge, FlatImages) {
+  REQUIRE_VULKAN(stage);
+  for (int v : {0, 1, 128, 255}) {
+    for (const auto& s : {std::pair{1, 1}, std::pair{33, 17}, std::pair{640, 480}}) {
+      std::vector<std::uint8_t> img(static_cast<std::size_t>(s.first) * s.second, static_cast<std::uint8_t>(v));
+      ExpectSameBothBlurs(stage, ImageView{img.data(), s.first, s.second, s.first},
+                          "flat " + std::to_string(v) + " " + std::to_string(s.first) + "x" + std::to_string(s.second));
+    }
+  }
+}
+
+// A 1-px serpentine whose brightness rises along the path: only its bright end is strong, the
+// rest weak, so hysteresis must walk the whole path across many tiles (many device rounds).
+TEST(ConformanceVulkanEdge, LongHysteresisChain) {
+  REQUIRE_VULKAN(stage);
+  const int w = 256, h = 256;
+  std::vector<std::uint8_t> img(static_cast<std::size_t>(w) * h, 0);
+  int step = 0;
+  const int total = (h / 4) * (w - 4);
+  for (int row = 0; row < h / 4 - 1; ++row) {
+    const int y = 2 + 4 * row;
+    for (int i = 0; i < w - 4; ++i) {
+      const int x = (row % 2 == 0) ? 2 + i : w - 3 - i;
+      img[y * w + x] = static_cast<std::uint8_t>(40 + (215 * step++) / total);
+    }
+    const int xe = (row % 2 == 0) ? w - 3 : 2;
+    for (int k = 1; k < 4; ++k) img[(y + k) * w + xe] = static_cast<std::uint8_t>(40 + (215 * step) / total);
+  }
+  Options o;
+  o.gaussian_blur = false;
+  o.canny_min_high = 600;
+  o.canny_low_permille = 50;
+  ExpectSame(stage, ImageView{img.data(), w, h, w}, o, "serpentine");
+  std::printf("serpentine: %d hysteresis rounds on the device\n", stage->last_hysteresis_rounds());
+}
+
+TEST(ConformanceVulkanEdge, SizeChangesReuseAndRecreate) {
+  REQUIRE_VULKAN(stage);
+  std::uint32_t seed = 7;
+  for (const auto& s : {std::pair{64, 48}, std::pair{64, 48}, std::pair{31, 9}, std::pair{64, 48}}) {
+    auto img = Shapes(s.first, s.second, seed++);
+    ExpectSameBothBlurs(stage, ImageView{img.data(), s.first, s.second, s.first}, "resize");
+  }
+}
+
+TEST(ConformanceVulkanEdge, DatasetImages) {
+  REQUIRE_VULKAN(stage);
+  namespace fs = std::filesystem;
+  const fs::path root = "../shared/datasets";
+  if (!fs::exists(root)) GTEST_SKIP() << "no " << root << " (tests run from the repository root)";
+  int count = 0;
+  for (const auto& set : fs::directory_iterator(root)) {
+    const fs::path images = set.path() / "images";
+    if (!fs::is_directory(images)) continue;
+    std::vector<fs::path> files;
+    for (const auto& f : fs::directory_iterator(images))
+      if (f.is_regular_file()) files.push_back(f.path());
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) {
+      const cv::Mat gray = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
+      if (gray.empty()) continue;
+      ExpectSameBothBlurs(stage, ImageView{gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)},
+                          f.string());
+      ++count;
+    }
+  }
+  EXPECT_GT(count, 0) << "no readable image under " << root;
+}
+
+TEST(ConformanceVulkanEdge, Timing) {
+  REQUIRE_VULKAN(stage);
+  const char* t = std::getenv("ELLIPSEKIT_VK_TIMING");
+  if (t == nullptr || std::string(t) != "1") GTEST_SKIP() << "set ELLIPSEKIT_VK_TIMING=1 to print timings";
+  using Clock = std::chrono::steady_clock;
+  for (const auto& s : {std::pair{640, 480}, std::pair{1920, 1080}}) {
+    const int w = s.first, h = s.second;
+    auto img = Shapes(w, h, 42);
+    const ImageView view{img.data(), w, h, w};
+    Options o;
+    Edges out;
+    out.dx.resize(static_cast<std::size_t>(w) * h);
+    out.dy.resize(out.dx.size());
+    out.edge_map.resize(out.dx.size());
+    double best_vk = 1e30, best_dev = 1e30, best_scalar = 1e30;
+    ASSERT_TRUE(stage->Run(view, o, out.dx.data(), out.dy.data(), out.edge_map.data()).ok());  // warm-up
+    for (int i = 0; i < 10; ++i) {
+      const auto a = Clock::now();
+      ASSERT_TRUE(stage->Run(view, o, out.dx.data(), out.dy.data(), out.edge_map.data()).ok());
+      const auto b = Clock::now();
+      best_vk = std::min(best_vk, std::chrono::duration<double, std::milli>(b - a).count());
+      best_dev = std::min(best_dev, stage->last_device_ms());
+    }
+    for (int i = 0; i < 10; ++i) {
+      const auto a = Clock::now();
+      ScalarEdges(view, o, &out);
+      const auto b = Clock::now();
+      best_scalar = std::min(best_scalar, std::chrono::duration<double, std::milli>(b - a).count());
+    }
+    std::printf("%dx%d on %s: vulkan %.2f ms wall (device %.2f ms, %d rounds), scalar %.2f ms\n", w, h,
+                stage->device_name().c_str(), best_vk, best_dev, stage->last_hysteresis_rounds(), best_scalar);
+  }
+}
+
+}  // namespace
+}  // namespace ellipsekit
+
+#else  // !ELLIPSEKIT_HAVE_VULKAN
+
+TEST(ConformanceVulkanEdge, NotBuilt) {
+  GTEST_SKIP() << "ellipsekit was built without the Vulkan edge stage (ELLIPSEKIT_HAVE_VULKAN unset)";
+}
+
+#endif
