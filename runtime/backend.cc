@@ -85,7 +85,18 @@ Status ResolveKernels(Backend requested, const KernelTable** table, std::string*
       return {StatusCode::kUnavailable, "backend 'simd' is not available: the Highway kernels are not built in this version"};
 #endif
     case Backend::kVulkan:
-      return {StatusCode::kUnavailable, "backend 'vulkan' is not available: the Vulkan kernels are not built in this version"};
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+      // The Detector runs the edge stage on the device (runtime/vulkan_edge_stage.h); the arc
+      // stage stays on the best CPU table until it has shaders of its own.
+#ifdef ELLIPSEKIT_HAVE_SIMD
+      *table = &SimdKernels();
+#else
+      *table = &ScalarKernels();
+#endif
+      return Status::Ok();
+#else
+      return {StatusCode::kUnavailable, "backend 'vulkan' is not available: this build has no Vulkan support"};
+#endif
   }
   return {StatusCode::kInvalidArgument, "unknown backend value"};
 }

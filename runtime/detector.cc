@@ -13,6 +13,9 @@
 #include "fit/grouping.h"
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+#include "runtime/vulkan_edge_stage.h"
+#endif
 
 namespace ellipsekit {
 
@@ -81,6 +84,9 @@ struct Detector::Impl {
   Options options;
   Status status;
   const KernelTable* kernels = nullptr;
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  std::unique_ptr<VulkanEdgeStage> vulkan;  // set when the edge stage runs on a Vulkan device
+#endif
   int width = 0, height = 0;
   std::vector<std::uint8_t> blurred, nms, edge_map;
   std::vector<std::int16_t> dx, dy;
@@ -133,22 +139,32 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const int w = width, h = height;
   const KernelTable& k = *kernels;
 
-  // Edges (sec. II-A).
-  const std::uint8_t* src = image.data;
-  std::ptrdiff_t src_stride = image.stride;
-  if (options.gaussian_blur) {
-    k.gaussian(image.data, image.stride, w, h, blurred.data(), w);
-    src = blurred.data();
-    src_stride = w;
+  // Edges (sec. II-A): on the Vulkan device, or with the CPU kernel table.
+  Backend ran = k.backend;
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  if (vulkan) {
+    const Status st = vulkan->Run(image, options, dx.data(), dy.data(), edge_map.data());
+    if (!st.ok()) return st;
+    ran = Backend::kVulkan;
+  } else
+#endif
+  {
+    const std::uint8_t* src = image.data;
+    std::ptrdiff_t src_stride = image.stride;
+    if (options.gaussian_blur) {
+      k.gaussian(image.data, image.stride, w, h, blurred.data(), w);
+      src = blurred.data();
+      src_stride = w;
+    }
+    k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
+    k.magnitude_histogram(mag.data(), w, h, w, hist.data());
+    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(w) * h,
+                                                       options.canny_high_permille,
+                                                       options.canny_low_permille, options.canny_min_high);
+    k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
+    k.hysteresis(nms.data(), w, h, w, stack.data());
+    k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edge_map.data(), w);
   }
-  k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
-  k.magnitude_histogram(mag.data(), w, h, w, hist.data());
-  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(w) * h,
-                                                     options.canny_high_permille,
-                                                     options.canny_low_permille, options.canny_min_high);
-  k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
-  k.hysteresis(nms.data(), w, h, w, stack.data());
-  k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edge_map.data(), w);
   const auto t1 = Clock::now();
 
   // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
@@ -175,7 +191,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);
   const auto t5 = Clock::now();
 
-  r->backend = k.backend;
+  r->backend = ran;
   r->caps_hit = gs.caps_hit;
   r->num_edge_pixels = 0;
   for (std::size_t i = 0; i < edge_map.size(); ++i) r->num_edge_pixels += edge_map[i] != 0;
@@ -198,6 +214,11 @@ Detector::Detector(const Options& options) : impl_(std::make_unique<Impl>()) {
     std::string why;
     impl_->status = ResolveKernels(options.backend, &impl_->kernels, &why);
   }
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  if (impl_->status.ok() && options.backend == Backend::kVulkan) {
+    impl_->status = VulkanEdgeStage::Create(&impl_->vulkan);
+  }
+#endif
 }
 
 Detector::~Detector() = default;

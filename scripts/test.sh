@@ -37,4 +37,4 @@ fi
 
 cmake --build "$build_dir" -j2
 
-exec ctest --test-dir "$build_dir" --output-on-failure -j2
+exec ctest --test-dir "$build_dir" --output-on-failure -j2 --no-label-summary
