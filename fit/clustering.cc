@@ -6,6 +6,10 @@
 
 namespace ellipsekit {
 
+namespace {
+constexpr double kConcentric = 0.2;  // centres closer than this * b count as nested
+}
+
 double FeatureDistance(const Ellipse& v, const Ellipse& w) {
   double dr = std::fmod(std::abs(v.theta - w.theta), std::numbers::pi);
   dr = std::min(dr, std::numbers::pi - dr);
@@ -44,11 +48,22 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
   });
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    bool duplicate = false;
-    for (std::size_t k = 0; k < kept && !duplicate; ++k) {
-      duplicate = SameEllipse(c[i].ellipse, c[k].ellipse, options);
+    std::size_t k = 0;
+    while (k < kept && !SameEllipse(c[i].ellipse, c[k].ellipse, options)) ++k;
+    if (k == kept) {
+      c[kept++] = c[i];
+      continue;
     }
-    if (!duplicate) c[kept++] = c[i];
+    // Nested rims (a can's outer rim and its inner lip) fall into one cluster; when their scores
+    // are within the margin, the outer one — the object's boundary — represents the cluster.
+    const Ellipse& e = c[i].ellipse;
+    const Ellipse& ref = c[k].ellipse;
+    if (e.score >= ref.score - options.cluster_outer_margin && e.a + e.b > ref.a + ref.b &&
+        std::hypot(e.cx - ref.cx, e.cy - ref.cy) < kConcentric * ref.b) {
+      const double best = ref.score;
+      c[k] = c[i];
+      c[k].ellipse.score = best;
+    }
   }
   return static_cast<int>(kept);
 }

@@ -2,7 +2,8 @@
 // (K(tau) + psi(tau), best first); each joins the first kept ellipse whose feature distance
 //   D = sqrt(dcx^2 + dcy^2 + dA^2 + dB^2 + drho^2)      (px, px, px, px, rad; drho wrapped mod pi)
 // is below T_s (or, with ClusterRule::kRelative, is within a tolerance relative to its size), or
-// else is kept as a new cluster reference.
+// else is kept as a new cluster reference. Our addition: a concentric, larger member whose score
+// is within cluster_outer_margin of the reference replaces it (see Options).
 #pragma once
 
 #include <vector>

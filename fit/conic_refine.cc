@@ -14,6 +14,12 @@ namespace {
 constexpr int kMaxPointsPerArc = 128;
 }
 
+void RefineScratch::Reserve() {
+  // Each arc contributes at most 2 * kMaxPointsPerArc points (step = n / kMaxPointsPerArc).
+  x.reserve(3 * 2 * kMaxPointsPerArc + 3);
+  y.reserve(3 * 2 * kMaxPointsPerArc + 3);
+}
+
 bool ConicToEllipse(const double k[6], Ellipse* out) {
   const double A = k[0], B = k[1], C = k[2], D = k[3], E = k[4], F = k[5];
   const double det = 4 * A * C - B * B;

@@ -14,6 +14,7 @@ namespace ellipsekit {
 
 struct RefineScratch {
   std::vector<double> x, y;
+  void Reserve();  // for the largest group (3 arcs)
 };
 
 // Returns false (and leaves *out alone) when the points do not give an ellipse.

@@ -53,6 +53,19 @@ double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& 
 
 }  // namespace
 
+void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
+  const std::size_t arcs = std::min<std::size_t>(pixels, static_cast<std::size_t>(options.max_arcs));
+  for (auto& q : by_quadrant) q.reserve(arcs);
+  const std::size_t max_pairs = static_cast<std::size_t>(options.max_pairs);
+  pairs.reserve(max_pairs);
+  as_next.reserve(max_pairs);
+  as_prev.reserve(max_pairs);
+  as_next_offset.reserve(arcs + 1);
+  as_prev_offset.reserve(arcs + 1);
+  params.Reserve();
+  refine.Reserve();
+}
+
 void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                     GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   const int n = static_cast<int>(arcs.size());

@@ -31,6 +31,15 @@ void SampleArc(const Curves& c, const Arc& arc, int arc_index, int samples,
 
 }  // namespace
 
+void ParameterScratch::Reserve() {
+  constexpr std::size_t kPoints = 3 * kAxisSamplesPerArc;
+  for (auto* v : {&px, &py, &tx, &ty, &a}) v->reserve(kPoints);
+  arc_of.reserve(kPoints);
+  constexpr std::size_t kVotes = (3 * kSamplesPerArc) * (3 * kSamplesPerArc - 1) / 2;
+  rho.reserve(kVotes);
+  n.reserve(kVotes);
+}
+
 double DensestWindowMean(std::vector<double>* values, double width, double period) {
   std::vector<double>& v = *values;
   std::sort(v.begin(), v.end());

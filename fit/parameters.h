@@ -27,6 +27,7 @@ struct ParameterScratch {
   std::vector<double> px, py, tx, ty;  // sampled points and unit tangents
   std::vector<int> arc_of;
   std::vector<double> rho, n, a;       // votes
+  void Reserve();                      // for the largest group (parameters.cc's sample counts)
 };
 
 // arcs: the group's arcs (2 or 3). Returns false when no consistent ellipse comes out.

@@ -55,6 +55,7 @@ Status ValidateOptions(const Options& o) {
   if (!Finite(o.cluster_distance) || o.cluster_distance < 0) return Invalid("cluster_distance (T_s) must be >= 0");
   if (!Finite(o.cluster_relative) || o.cluster_relative < 0 || o.cluster_relative > 1)
     return Invalid("cluster_relative must be in [0, 1]");
+  if (!Finite(o.cluster_outer_margin)) return Invalid("cluster_outer_margin must be a finite number");
   if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
     return Invalid("caps (max_arcs, max_pairs, max_triplets, max_candidates, max_mean_shift_iterations) must be >= 1");
   if (o.max_image_pixels < 1) return Invalid("max_image_pixels must be >= 1");
@@ -128,6 +129,7 @@ struct Detector::Impl {
     arc_scratch.hull.reserve(3 * n);
     arcs.reserve(n);
     candidates.reserve(static_cast<std::size_t>(options.max_candidates));
+    groups.Reserve(n, options);
   }
 
   Status Detect(const ImageView& image, DetectionResult* result);
@@ -188,6 +190,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const int num_candidates = static_cast<int>(candidates.size());
   const int kept = ClusterCandidates(&candidates, options);
   r->ellipses.clear();
+  if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);
   const auto t5 = Clock::now();
 

@@ -11,12 +11,15 @@ namespace ellipsekit {
 
 namespace {
 
+// Parsers leave *v untouched unless the whole text is a valid value.
 bool ParseDouble(const std::string& s, double* v) {
   if (s.empty()) return false;
   char* end = nullptr;
   errno = 0;
-  *v = std::strtod(s.c_str(), &end);
-  return errno == 0 && end == s.c_str() + s.size();
+  const double x = std::strtod(s.c_str(), &end);
+  if (errno != 0 || end != s.c_str() + s.size()) return false;
+  *v = x;
+  return true;
 }
 
 bool ParseInt(const std::string& s, int* v) {
@@ -54,6 +57,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"circumference_ratio", &Options::circumference_ratio},
       {"refined_circumference_ratio", &Options::refined_circumference_ratio}, {"cluster_distance", &Options::cluster_distance},
       {"cluster_relative", &Options::cluster_relative},
+      {"cluster_outer_margin", &Options::cluster_outer_margin},
   };
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},

@@ -81,15 +81,6 @@ ArcRun RunArcStage(const Curves& curves, int min_points = 3, double tolerance = 
   scalar::Polyline(curves, PolylineToleranceQ16(tolerance), &r.polylines, &stack);
   scalar::ArcSplit(curves, r.polylines, SplitTanQ16(angle), &r.splits);
   scalar::ArcStatsFromSplits(curves, r.splits, min_points, &r.stats);
-  if (getenv("DBG")) {
-    for (int c = 0; c < curves.size(); ++c) {
-      printf("curve %d:", c);
-      for (int k = r.polylines.offset[c]; k < r.polylines.offset[c + 1]; ++k) { int v = r.polylines.vertex[k]; printf(" %d(%d,%d)", v, curves.x[v], curves.y[v]); }
-      printf("\n splits:");
-      for (int k = r.splits.offset[c]; k < r.splits.offset[c + 1]; ++k) printf(" %d", r.splits.index[k]);
-      printf("\n");
-    }
-  }
   return r;
 }
 

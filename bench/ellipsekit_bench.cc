@@ -1,0 +1,505 @@
+// ellipsekit_bench: one Google Benchmark registry for the edge-stage kernels, the whole edge stage,
+// OpenCV baselines and end-to-end detect(). Run from the repository root (reads
+// ../shared/datasets/prasad_subset/images). Every benchmark uses real (wall) time.
+//
+// Names (scripts/bench.sh parses them):
+//   kernel/<kernel>/<backend>/<W>x<H>     kernel: a row of kernels/kernels.inc (stage Edges);
+//                                         backend: scalar | simd:<HIGHWAY TARGET>
+//   edge_stage/<backend>/<W>x<H>          gray in -> sign-classified edge map out; scalar | simd | vulkan
+//   opencv/<sobel|canny|blur_canny>/<W>x<H>
+//   detect/<backend>/<prasad|scenes>/<image>   Detector::detect on the image at its own size
+//   opencv_canny_image/<prasad|scenes>/<image> cv::Canny on the same image
+// Test frames for kernels / edge stage: the first prasad image, resized (cv::resize) to each size,
+// so the edge density is realistic. OpenCV runs single-threaded (cv::setNumThreads(1)).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "ellipsekit/detector.h"
+#include "kernels/canny_thresholds.h"
+#include "kernels/edge_sign.h"
+#include "kernels/gaussian.h"
+#include "kernels/hysteresis.h"
+#include "kernels/nms.h"
+#include "kernels/sobel.h"
+#include "runtime/backend.h"
+#ifdef ELLIPSEKIT_HAVE_SIMD
+#include <hwy/detect_targets.h>
+
+#include "cpu/simd_kernels.h"
+#endif
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+#include "runtime/vulkan_edge_stage.h"
+#endif
+#ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
+#include "tools/scenes/scene_generator.h"
+#endif
+
+namespace ek = ellipsekit;
+
+namespace {
+
+constexpr const char* kPrasadDir = "../shared/datasets/prasad_subset/images";
+constexpr int kNumScenes = 6;
+
+struct Size {
+  int w, h;
+};
+constexpr Size kSizes[] = {{640, 480}, {1280, 720}, {1920, 1080}};
+
+std::string SizeName(Size s) { return std::to_string(s.w) + "x" + std::to_string(s.h); }
+
+std::vector<std::filesystem::path> PrasadImages() {
+  std::vector<std::filesystem::path> out;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(kPrasadDir, ec)) {
+    const std::string ext = e.path().extension().string();
+    if (ext == ".jpg" || ext == ".png" || ext == ".bmp" || ext == ".jpeg") out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+cv::Mat LoadGray(const std::filesystem::path& p) { return cv::imread(p.string(), cv::IMREAD_GRAYSCALE); }
+
+ek::ImageView View(const cv::Mat& m) {
+  ek::ImageView v;
+  v.data = m.data;
+  v.width = m.cols;
+  v.height = m.rows;
+  v.stride = static_cast<std::ptrdiff_t>(m.step[0]);
+  return v;
+}
+
+// The base frame: the first dataset image (a synthetic fallback when the dataset is missing).
+const cv::Mat& BaseFrame() {
+  static const cv::Mat base = [] {
+    const auto images = PrasadImages();
+    cv::Mat m;
+    if (!images.empty()) m = LoadGray(images.front());
+    if (m.empty()) {
+      std::fprintf(stderr, "ellipsekit_bench: no image in %s; using a synthetic frame\n", kPrasadDir);
+      m = cv::Mat(480, 640, CV_8UC1, cv::Scalar(90));
+      for (int i = 0; i < 12; ++i)
+        cv::ellipse(m, cv::Point(60 + 45 * i, 100 + 25 * i), cv::Size(30 + 3 * i, 15 + 2 * i), 10.0 * i, 0, 360,
+                    cv::Scalar(30 + 15 * i), 2);
+    }
+    return m;
+  }();
+  return base;
+}
+
+// The inputs of every edge kernel for one frame size, produced by the scalar reference.
+struct Prepared {
+  cv::Mat frame;  // CV_8UC1, continuous
+  int w = 0, h = 0;
+  std::vector<std::uint8_t> blurred, nms, hyst, edges, scratch_u8;
+  std::vector<std::int16_t> dx, dy;
+  std::vector<std::uint16_t> mag;
+  std::vector<std::uint32_t> hist;
+  std::vector<std::int32_t> stack;
+  ek::CannyThresholds th;
+};
+
+void PrepareFrom(const cv::Mat& frame, Prepared* p) {
+  p->frame = frame.isContinuous() ? frame : frame.clone();
+  const int w = p->w = frame.cols, h = p->h = frame.rows;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  p->blurred.resize(n); p->nms.resize(n); p->hyst.resize(n); p->edges.resize(n); p->scratch_u8.resize(n);
+  p->dx.resize(n); p->dy.resize(n); p->mag.resize(n);
+  p->hist.resize(ek::kMaxMagnitude + 1);
+  p->stack.resize(n);
+  const ek::Options o;
+  ek::scalar::Gaussian(p->frame.data, w, w, h, p->blurred.data(), w);
+  ek::scalar::Sobel(p->blurred.data(), w, w, h, p->dx.data(), p->dy.data(), p->mag.data(), w);
+  ek::scalar::MagnitudeHistogram(p->mag.data(), w, h, w, p->hist.data());
+  p->th = ek::ThresholdsFromHistogram(p->hist.data(), static_cast<std::int64_t>(n), o.canny_high_permille,
+                                      o.canny_low_permille, o.canny_min_high);
+  ek::scalar::Nms(p->dx.data(), p->dy.data(), p->mag.data(), w, h, w, p->th.low, p->th.high, p->nms.data(), w);
+  p->hyst = p->nms;
+  ek::scalar::Hysteresis(p->hyst.data(), w, h, w, p->stack.data());
+  ek::scalar::EdgeSign(p->hyst.data(), w, p->dx.data(), p->dy.data(), w, w, h, p->edges.data(), w);
+}
+
+Prepared& PreparedFor(Size s) {
+  static std::map<std::pair<int, int>, std::unique_ptr<Prepared>> cache;
+  auto& slot = cache[{s.w, s.h}];
+  if (!slot) {
+    slot = std::make_unique<Prepared>();
+    cv::Mat resized;
+    cv::resize(BaseFrame(), resized, cv::Size(s.w, s.h), 0, 0, cv::INTER_AREA);
+    PrepareFrom(resized, slot.get());
+  }
+  return *slot;
+}
+
+void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_iter) {
+  st.SetItemsProcessed(st.iterations() * pixels);
+  st.SetBytesProcessed(st.iterations() * bytes_per_iter);
+}
+
+// ---- kernels: one function per row of kernels/kernels.inc (stage Edges). `simd` selects the
+// Highway entry points (dispatching to whatever target is forced), else the scalar references.
+// Bytes: what the kernel reads plus what it writes, per frame.
+void RunKernel(benchmark::State& st, const std::string& kernel, bool simd, Size s) {
+  Prepared& p = PreparedFor(s);
+  const int w = p.w, h = p.h;
+  const std::int64_t n = static_cast<std::int64_t>(w) * h;
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  const ek::KernelTable& t = simd ? ek::SimdKernels() : ek::ScalarKernels();
+#else
+  if (simd) { st.SkipWithError("SIMD backend not built"); return; }
+  const ek::KernelTable& t = ek::ScalarKernels();
+#endif
+  std::vector<std::uint8_t> out_u8(n);
+  std::vector<std::int16_t> dx(n), dy(n);
+  std::vector<std::uint16_t> mag(n);
+  std::vector<std::uint32_t> hist(ek::kMaxMagnitude + 1);
+  std::int64_t bytes = 0;
+  if (kernel == "gaussian") {
+    for (auto _ : st) {
+      t.gaussian(p.frame.data, w, w, h, out_u8.data(), w);
+      benchmark::DoNotOptimize(out_u8.data());
+      benchmark::ClobberMemory();
+    }
+    bytes = 2 * n;
+  } else if (kernel == "sobel") {
+    for (auto _ : st) {
+      t.sobel(p.blurred.data(), w, w, h, dx.data(), dy.data(), mag.data(), w);
+      benchmark::DoNotOptimize(mag.data());
+      benchmark::ClobberMemory();
+    }
+    bytes = 7 * n;
+  } else if (kernel == "canny_thresholds") {  // the histogram kernel + the quantile walk
+    ek::CannyThresholds th;
+    const ek::Options o;
+    for (auto _ : st) {
+      t.magnitude_histogram(p.mag.data(), w, h, w, hist.data());
+      th = ek::ThresholdsFromHistogram(hist.data(), n, o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
+      benchmark::DoNotOptimize(th);
+    }
+    bytes = 2 * n;
+  } else if (kernel == "nms") {
+    for (auto _ : st) {
+      t.nms(p.dx.data(), p.dy.data(), p.mag.data(), w, h, w, p.th.low, p.th.high, out_u8.data(), w);
+      benchmark::DoNotOptimize(out_u8.data());
+      benchmark::ClobberMemory();
+    }
+    bytes = 7 * n;
+  } else if (kernel == "hysteresis") {  // in place: each iteration restores the NMS map (memcpy timed)
+    for (auto _ : st) {
+      std::memcpy(out_u8.data(), p.nms.data(), static_cast<std::size_t>(n));
+      t.hysteresis(out_u8.data(), w, h, w, p.stack.data());
+      benchmark::DoNotOptimize(out_u8.data());
+      benchmark::ClobberMemory();
+    }
+    bytes = 2 * n;
+  } else if (kernel == "edge_sign") {
+    for (auto _ : st) {
+      t.edge_sign(p.hyst.data(), w, p.dx.data(), p.dy.data(), w, w, h, out_u8.data(), w);
+      benchmark::DoNotOptimize(out_u8.data());
+      benchmark::ClobberMemory();
+    }
+    bytes = 6 * n;
+  } else {
+    st.SkipWithError(("unknown kernel " + kernel).c_str());
+    return;
+  }
+  SetRates(st, n, bytes);
+}
+
+// Simd kernels on one forced Highway target; skipped when the CPU lacks it.
+void BM_KernelSimdTarget(benchmark::State& st, std::string kernel, std::int64_t target, Size s) {
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  const auto avail = ek::simd::AvailableTargets();
+  if (std::find(avail.begin(), avail.end(), target) == avail.end()) {
+    st.SkipWithError(("Highway target " + ek::simd::TargetName(target) + " not supported by this CPU").c_str());
+    return;
+  }
+  ek::simd::ForceTarget(target);
+  RunKernel(st, kernel, true, s);
+  ek::simd::ForceTarget(0);
+#else
+  (void)kernel; (void)target; (void)s;
+  st.SkipWithError("SIMD backend not built");
+#endif
+}
+
+// ---- the whole edge stage, as runtime/detector.cc runs it on a CPU kernel table.
+void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
+  const int w = frame.cols, h = frame.rows;
+  const ek::Options o;
+  k.gaussian(frame.data, static_cast<std::ptrdiff_t>(frame.step[0]), w, h, b->blurred.data(), w);
+  k.sobel(b->blurred.data(), w, w, h, b->dx.data(), b->dy.data(), b->mag.data(), w);
+  k.magnitude_histogram(b->mag.data(), w, h, w, b->hist.data());
+  const ek::CannyThresholds th = ek::ThresholdsFromHistogram(b->hist.data(), static_cast<std::int64_t>(w) * h,
+                                                             o.canny_high_permille, o.canny_low_permille,
+                                                             o.canny_min_high);
+  k.nms(b->dx.data(), b->dy.data(), b->mag.data(), w, h, w, th.low, th.high, b->nms.data(), w);
+  k.hysteresis(b->nms.data(), w, h, w, b->stack.data());
+  k.edge_sign(b->nms.data(), w, b->dx.data(), b->dy.data(), w, w, h, b->edges.data(), w);
+}
+
+void BM_EdgeStageCpu(benchmark::State& st, bool simd, Size s) {
+  Prepared& p = PreparedFor(s);
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  ek::simd::ForceTarget(0);
+  const ek::KernelTable& k = simd ? ek::SimdKernels() : ek::ScalarKernels();
+#else
+  if (simd) { st.SkipWithError("SIMD backend not built"); return; }
+  const ek::KernelTable& k = ek::ScalarKernels();
+#endif
+  Prepared buf;
+  PrepareFrom(p.frame, &buf);  // sized buffers (contents overwritten)
+  for (auto _ : st) {
+    CpuEdgeStage(k, p.frame, &buf);
+    benchmark::DoNotOptimize(buf.edges.data());
+    benchmark::ClobberMemory();
+  }
+  if (buf.edges != p.edges) st.SkipWithError("edge map differs from the scalar reference");
+  SetRates(st, static_cast<std::int64_t>(p.w) * p.h, 2LL * p.w * p.h);
+}
+
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+ek::VulkanEdgeStage* VulkanStage(std::string* why) {
+  static std::unique_ptr<ek::VulkanEdgeStage> stage;
+  static ek::Status status = ek::VulkanEdgeStage::Create(&stage);
+  if (!status.ok()) *why = status.message();
+  return status.ok() ? stage.get() : nullptr;
+}
+#endif
+
+// Warm (buffers and pipelines made by an untimed first Run); the time includes the transfers.
+void BM_EdgeStageVulkan(benchmark::State& st, Size s) {
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  std::string why;
+  ek::VulkanEdgeStage* vk = VulkanStage(&why);
+  if (vk == nullptr) { st.SkipWithError(("Vulkan unavailable: " + why).c_str()); return; }
+  Prepared& p = PreparedFor(s);
+  const std::size_t n = static_cast<std::size_t>(p.w) * p.h;
+  std::vector<std::int16_t> dx(n), dy(n);
+  std::vector<std::uint8_t> edges(n);
+  const ek::Options o;
+  ek::Status rs = vk->Run(View(p.frame), o, dx.data(), dy.data(), edges.data());
+  if (!rs.ok()) { st.SkipWithError(("Vulkan Run failed: " + rs.message()).c_str()); return; }
+  double device_ms = 0;
+  for (auto _ : st) {
+    rs = vk->Run(View(p.frame), o, dx.data(), dy.data(), edges.data());
+    if (!rs.ok()) { st.SkipWithError(("Vulkan Run failed: " + rs.message()).c_str()); break; }
+    device_ms += vk->last_device_ms();
+  }
+  if (st.error_occurred()) return;
+  if (edges != p.edges) { st.SkipWithError("edge map differs from the scalar reference"); return; }
+  st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
+  st.SetLabel(vk->device_name());
+  SetRates(st, static_cast<std::int64_t>(n), 2LL * static_cast<std::int64_t>(n));
+#else
+  (void)s;
+  st.SkipWithError("Vulkan backend not built");
+#endif
+}
+
+// ---- OpenCV baselines (single thread). Canny uses the thresholds our rule picks for the frame, with
+// OpenCV's default L1 gradient (as ours); blur_canny adds the 3x3 Gaussian ours applies.
+void BM_OpenCvSobel(benchmark::State& st, Size s) {
+  Prepared& p = PreparedFor(s);
+  cv::Mat dx, dy;
+  for (auto _ : st) {
+    cv::Sobel(p.frame, dx, CV_16S, 1, 0, 3);
+    cv::Sobel(p.frame, dy, CV_16S, 0, 1, 3);
+    benchmark::DoNotOptimize(dx.data);
+    benchmark::DoNotOptimize(dy.data);
+  }
+  SetRates(st, static_cast<std::int64_t>(p.w) * p.h, 5LL * p.w * p.h);
+}
+
+void BM_OpenCvCanny(benchmark::State& st, bool blur, Size s) {
+  Prepared& p = PreparedFor(s);
+  cv::Mat blurred, edges;
+  for (auto _ : st) {
+    if (blur) {
+      cv::GaussianBlur(p.frame, blurred, cv::Size(3, 3), 0, 0, cv::BORDER_REPLICATE);
+      cv::Canny(blurred, edges, p.th.low, p.th.high, 3, false);
+    } else {
+      cv::Canny(p.frame, edges, p.th.low, p.th.high, 3, false);
+    }
+    benchmark::DoNotOptimize(edges.data);
+  }
+  SetRates(st, static_cast<std::int64_t>(p.w) * p.h, 2LL * p.w * p.h);
+}
+
+// ---- end to end. One Detector per backend, reused across images (a warm-up detect() per
+// benchmark sizes its buffers). Stage timings are averaged over the iterations as counters.
+ek::Detector* DetectorFor(ek::Backend b) {
+  static std::map<int, std::unique_ptr<ek::Detector>> detectors;
+  auto& d = detectors[static_cast<int>(b)];
+  if (!d) {
+    ek::Options o;
+    o.backend = b;
+    d = std::make_unique<ek::Detector>(o);
+  }
+  return d.get();
+}
+
+void BM_Detect(benchmark::State& st, ek::Backend backend, const cv::Mat* image) {
+  ek::Detector* det = DetectorFor(backend);
+  if (!det->status().ok()) {
+    st.SkipWithError((std::string(ek::BackendName(backend)) + " unavailable: " + det->status().message()).c_str());
+    return;
+  }
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  ek::simd::ForceTarget(0);
+#endif
+  ek::DetectionResult r;
+  ek::Status s = det->detect(View(*image), &r);
+  if (!s.ok()) { st.SkipWithError(("detect failed: " + s.message()).c_str()); return; }
+  ek::StageTimings sum;
+  for (auto _ : st) {
+    s = det->detect(View(*image), &r);
+    sum.edges_ms += r.timings.edges_ms;
+    sum.curves_ms += r.timings.curves_ms;
+    sum.arcs_ms += r.timings.arcs_ms;
+    sum.fit_ms += r.timings.fit_ms;
+    sum.validate_ms += r.timings.validate_ms;
+    sum.total_ms += r.timings.total_ms;
+  }
+  if (!s.ok()) { st.SkipWithError(("detect failed: " + s.message()).c_str()); return; }
+  using C = benchmark::Counter;
+  st.counters["edges_ms"] = C(sum.edges_ms, C::kAvgIterations);
+  st.counters["curves_ms"] = C(sum.curves_ms, C::kAvgIterations);
+  st.counters["arcs_ms"] = C(sum.arcs_ms, C::kAvgIterations);
+  st.counters["fit_ms"] = C(sum.fit_ms, C::kAvgIterations);
+  st.counters["validate_ms"] = C(sum.validate_ms, C::kAvgIterations);
+  st.counters["total_ms"] = C(sum.total_ms, C::kAvgIterations);
+  st.counters["ellipses"] = static_cast<double>(r.ellipses.size());
+  st.counters["edge_pixels"] = r.num_edge_pixels;
+  SetRates(st, static_cast<std::int64_t>(image->cols) * image->rows,
+           static_cast<std::int64_t>(image->cols) * image->rows);
+}
+
+void BM_CannyImage(benchmark::State& st, const Prepared* p) {
+  cv::Mat edges;
+  for (auto _ : st) {
+    cv::Canny(p->frame, edges, p->th.low, p->th.high, 3, false);
+    benchmark::DoNotOptimize(edges.data);
+  }
+  SetRates(st, static_cast<std::int64_t>(p->w) * p->h, 2LL * p->w * p->h);
+}
+
+std::vector<std::pair<std::string, cv::Mat>>& EndToEndImages(const std::string& set) {
+  static std::map<std::string, std::vector<std::pair<std::string, cv::Mat>>> sets;
+  return sets[set];
+}
+
+void Register() {
+  const char* kernels[] = {
+#define ELLIPSEKIT_KERNEL(name, stage) ELLIPSEKIT_KERNEL_##stage(name)
+#define ELLIPSEKIT_KERNEL_Edges(name) #name,
+#define ELLIPSEKIT_KERNEL_Arcs(name)
+#include "kernels/kernels.inc"
+#undef ELLIPSEKIT_KERNEL_Edges
+#undef ELLIPSEKIT_KERNEL_Arcs
+  };
+
+  std::vector<std::int64_t> targets;  // every Highway target compiled into this binary, best first
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  for (int i = 0; i < 63; ++i) {
+    const std::uint64_t bit = std::uint64_t{1} << i;
+    if (static_cast<std::uint64_t>(HWY_TARGETS) & bit) targets.push_back(static_cast<std::int64_t>(bit));
+  }
+#endif
+
+  for (const char* k : kernels) {
+    for (Size s : kSizes) {
+      const std::string tail = "/" + SizeName(s);
+      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/scalar" + tail).c_str(),
+                                   [k, s](benchmark::State& st) { RunKernel(st, k, false, s); })->UseRealTime();
+#ifdef ELLIPSEKIT_HAVE_SIMD
+      for (std::int64_t t : targets) {
+        benchmark::RegisterBenchmark(
+            ("kernel/" + std::string(k) + "/simd:" + ek::simd::TargetName(t) + tail).c_str(),
+            [k, t, s](benchmark::State& st) { BM_KernelSimdTarget(st, k, t, s); })->UseRealTime();
+      }
+#else
+      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/simd" + tail).c_str(),
+                                   [k, s](benchmark::State& st) { RunKernel(st, k, true, s); })->UseRealTime();
+#endif
+    }
+  }
+
+  for (Size s : kSizes) {
+    const std::string tail = "/" + SizeName(s);
+    benchmark::RegisterBenchmark(("edge_stage/scalar" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, false, s); })->UseRealTime();
+    benchmark::RegisterBenchmark(("edge_stage/simd" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, true, s); })->UseRealTime();
+    benchmark::RegisterBenchmark(("edge_stage/vulkan" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s); })->UseRealTime();
+    benchmark::RegisterBenchmark(("opencv/sobel" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_OpenCvSobel(st, s); })->UseRealTime();
+    benchmark::RegisterBenchmark(("opencv/canny" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_OpenCvCanny(st, false, s); })->UseRealTime();
+    benchmark::RegisterBenchmark(("opencv/blur_canny" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_OpenCvCanny(st, true, s); })->UseRealTime();
+  }
+
+  // End-to-end images: every prasad image, and kNumScenes generated scenes.
+  auto& prasad = EndToEndImages("prasad");
+  for (const auto& path : PrasadImages()) {
+    cv::Mat m = LoadGray(path);
+    if (!m.empty()) prasad.emplace_back(path.stem().string(), m);
+  }
+  auto& scenes = EndToEndImages("scenes");
+#ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
+  for (int i = 0; i < kNumScenes; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "scene_%04d", i);
+    scenes.emplace_back(name, ek::scenes::RenderScene(ek::scenes::MixSeed(7, static_cast<std::uint64_t>(i))).gray);
+  }
+#endif
+  static std::vector<std::unique_ptr<Prepared>> prepared;  // thresholds for the Canny baselines
+  const std::pair<ek::Backend, const char*> backends[] = {
+      {ek::Backend::kScalar, "scalar"}, {ek::Backend::kSimd, "simd"}, {ek::Backend::kVulkan, "vulkan"}};
+  for (const char* set : {"prasad", "scenes"}) {
+    for (auto& [name, mat] : EndToEndImages(set)) {
+      if (!mat.isContinuous()) mat = mat.clone();
+      const cv::Mat* img = &mat;
+      for (const auto& [b, bname] : backends) {
+        const ek::Backend backend = b;
+        benchmark::RegisterBenchmark(("detect/" + std::string(bname) + "/" + set + "/" + name).c_str(),
+                                     [backend, img](benchmark::State& st) { BM_Detect(st, backend, img); })
+            ->UseRealTime();
+      }
+      prepared.push_back(std::make_unique<Prepared>());
+      PrepareFrom(mat, prepared.back().get());
+      const Prepared* p = prepared.back().get();
+      benchmark::RegisterBenchmark(("opencv_canny_image/" + std::string(set) + "/" + name).c_str(),
+                                   [p](benchmark::State& st) { BM_CannyImage(st, p); })->UseRealTime();
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cv::setNumThreads(1);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  Register();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
