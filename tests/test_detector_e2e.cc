@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ellipsekit/ellipsekit.h"
+#include "tools/eval/overlap.h"
 
 namespace ellipsekit {
 namespace {
@@ -29,6 +30,29 @@ struct Scene {
 cv::Point2d RimPoint(const Ellipse& e, double t) {
   const double c = std::cos(e.theta), s = std::sin(e.theta);
   return {e.cx + c * e.a * std::cos(t) - s * e.b * std::sin(t), e.cy + s * e.a * std::cos(t) + c * e.b * std::sin(t)};
+}
+
+// Fills `e` with exact anti-aliasing: each pixel (centre at integer coordinates) blends by the
+// share of its 4x4 sub-samples inside the ellipse, so the drawn edge is where `e` says it is.
+// (cv::ellipse fills a polygon and adds its own AA fringe, a fraction of a pixel off.)
+void FillEllipseExact(const Ellipse& e, int gray, cv::Mat* image) {
+  const double c = std::cos(e.theta), sn = std::sin(e.theta);
+  const int x0 = std::max(0, static_cast<int>(e.cx - e.a) - 2), x1 = std::min(image->cols - 1, static_cast<int>(e.cx + e.a) + 2);
+  const int y0 = std::max(0, static_cast<int>(e.cy - e.a) - 2), y1 = std::min(image->rows - 1, static_cast<int>(e.cy + e.a) + 2);
+  for (int y = y0; y <= y1; ++y) {
+    std::uint8_t* row = image->ptr<std::uint8_t>(y);
+    for (int x = x0; x <= x1; ++x) {
+      int inside = 0;
+      for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+          const double dx = x - 0.375 + 0.25 * i - e.cx, dy = y - 0.375 + 0.25 * j - e.cy;
+          const double u = (dx * c + dy * sn) / e.a, v = (dy * c - dx * sn) / e.b;
+          inside += u * u + v * v <= 1.0;
+        }
+      }
+      row[x] = static_cast<std::uint8_t>(std::lround((row[x] * (16 - inside) + gray * inside) / 16.0));
+    }
+  }
 }
 
 // One scene: 1-3 non-overlapping ellipses. With `occlude`, each gets a background-coloured
@@ -64,16 +88,7 @@ Scene MakeScene(std::uint32_t seed, bool occlude) {
   for (const Ellipse& e : s.truth) {
     int gray;
     do { gray = static_cast<int>(uni(0, 255)); } while (std::abs(gray - ground) < 70);
-    constexpr int kShift = 4;  // 1/16 px
-    const cv::Point c(static_cast<int>(std::lround(e.cx * 16)), static_cast<int>(std::lround(e.cy * 16)));
-    const cv::Size axes(static_cast<int>(std::lround(e.a * 16)), static_cast<int>(std::lround(e.b * 16)));
-    cv::ellipse(s.image, c, axes, e.theta * 180 / kPi, 0, 360, cv::Scalar(gray), cv::FILLED, cv::LINE_AA, kShift);
-  }
-  for (Ellipse& e : s.truth) {  // the drawn values, at 1/16 px
-    e.cx = std::lround(e.cx * 16) / 16.0;
-    e.cy = std::lround(e.cy * 16) / 16.0;
-    e.a = std::lround(e.a * 16) / 16.0;
-    e.b = std::lround(e.b * 16) / 16.0;
+    FillEllipseExact(e, gray, &s.image);
   }
   if (occlude) {
     for (const Ellipse& e : s.truth) {
@@ -128,6 +143,7 @@ bool Near(const Ellipse& got, const Ellipse& want) {
 
 struct Tally {
   int truth = 0, found = 0, false_positives = 0;
+  int found_jaccard = 0;  // detected by the paper's criterion: Jaccard overlap > 0.8
   std::vector<Ellipse> detections;  // for backend comparison
 };
 
@@ -149,6 +165,9 @@ Tally RunScenes(Backend backend, bool occlude, std::uint32_t seed0, int min_trut
       bool ok = false;
       for (const Ellipse& got : result.ellipses) ok |= Matches(got, want);
       t.found += ok;
+      bool overlaps = false;
+      for (const Ellipse& got : result.ellipses) overlaps |= eval::EllipseJaccard(got, want) > 0.8;
+      t.found_jaccard += overlaps;
       if (!ok && std::getenv("ELLIPSEKIT_E2E_VERBOSE")) {
         std::printf("seed %u missed (%.2f %.2f %.2f %.2f %.3f)\n", seed, want.cx, want.cy, want.a, want.b, want.theta);
         for (const Ellipse& got : result.ellipses)
@@ -168,8 +187,9 @@ Tally RunScenes(Backend backend, bool occlude, std::uint32_t seed0, int min_trut
 constexpr int kMinTruth = 40;
 
 void Report(const char* what, Backend backend, const Tally& t) {
-  std::printf("[ e2e ] %s, backend %s: recovered %d of %d (%.1f %%), false positives %d\n", what,
-              BackendName(backend), t.found, t.truth, 100.0 * t.found / t.truth, t.false_positives);
+  std::printf("[ e2e ] %s, backend %s: recovered %d of %d (%.1f %%) within 1 px / 2 %% / 2 deg, "
+              "%d with Jaccard > 0.8, false positives %d\n", what, BackendName(backend), t.found, t.truth,
+              100.0 * t.found / t.truth, t.found_jaccard, t.false_positives);
 }
 
 class DetectorE2E : public ::testing::TestWithParam<Backend> {};
@@ -178,10 +198,8 @@ TEST_P(DetectorE2E, RecoversWholeEllipses) {
   const Tally t = RunScenes(GetParam(), /*occlude=*/false, 1000, kMinTruth);
   Report("whole ellipses", GetParam(), t);
   ASSERT_GE(t.truth, kMinTruth);
-  // Measured (seeds 1000.., 40 ellipses, both backends): 18 of 40 (45 %) within 1 px / 2 % / 2 deg.
-  // Most misses are found with both semi-axes ~0.6-0.8 px too long (a systematic outward bias,
-  // against OpenCV's filled anti-aliased rendering), a few (large ones) are not found at all.
-  EXPECT_GE(t.found, t.truth * 40 / 100);
+  // Measured (seeds 1000.., 40 ellipses, both backends): 33 of 40 (82.5 %) within 1 px / 2 % / 2 deg.
+  EXPECT_GE(t.found, t.truth * 80 / 100);
   EXPECT_LE(t.false_positives, 2);
 }
 
@@ -189,8 +207,10 @@ TEST_P(DetectorE2E, RecoversHalfOccludedEllipses) {
   const Tally t = RunScenes(GetParam(), /*occlude=*/true, 5000, kMinTruth);
   Report("half-occluded ellipses", GetParam(), t);
   ASSERT_GE(t.truth, kMinTruth);
-  // Measured (seeds 5000.., 40 ellipses): only 2 of 40 (5 %) within the strict tolerances.
-  EXPECT_GE(t.found, 1);
+  // Half the rim leaves one full quadrant and two half quadrants, so the arc triplet is short and
+  // the fit less exact: measured (seeds 5000.., 40 ellipses) 5 of 40 within 1 px / 2 % / 2 deg,
+  // 6 of 40 with Jaccard > 0.8 (the detector needs arcs from three quadrants).
+  EXPECT_GE(t.found_jaccard, 5);
   // The occluders' straight edges must not produce ellipses of their own.
   EXPECT_LE(t.false_positives, 2);
 }
