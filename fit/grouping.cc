@@ -51,6 +51,23 @@ double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& 
   return lo > 0 ? hi / lo : HUGE_VAL;
 }
 
+// Parameters (eqs. 8-12), the optional refit, then K(tau) > T_l (eq. 13) and psi (eq. 16).
+// On success *e holds the ellipse with score K + psi.
+bool FitAndValidate(const Curves& curves, const Arc* const* group, int count, const Eigen::Vector2d& center,
+                    const Options& options, GroupScratch* s, Ellipse* e) {
+  if (!EstimateParameters(curves, group, count, center, &s->params, e)) return false;
+  // The refit (our addition) replaces the estimate before validation; it fits a true group to
+  // the pixel, so psi can be held to a much stricter bar (README: measured).
+  const bool refined = options.refine_fit && RefineEllipse(curves, group, count, &s->refine, e);
+  if (!(e->b >= 1.0)) return false;
+  const double k = LengthRatio(group, count, *e);
+  if (!(k > options.length_ratio)) return false;
+  const double psi = CircumferenceRatio(curves, group, count, *e, options.inlier_rule, options.inlier_threshold);
+  if (!(psi > (refined ? options.refined_circumference_ratio : options.circumference_ratio))) return false;
+  e->score = k + psi;
+  return true;
+}
+
 }  // namespace
 
 void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
@@ -108,20 +125,11 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
         if (ms_capped) stats->caps_hit |= kCapMeanShift;
         if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
         Ellipse e;
-        if (!EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
-        // The refit (our addition) replaces the estimate before validation; it fits a true
-        // group to the pixel, so psi can be held to a much stricter bar (README: measured).
-        const bool refined = options.refine_fit && RefineEllipse(curves, group, 3, &s->refine, &e);
-        if (!(e.b >= 1.0)) continue;
-        const double k = LengthRatio(group, 3, e);
-        if (!(k > options.length_ratio)) continue;
-        const double psi = CircumferenceRatio(curves, group, 3, e, options.inlier_rule, options.inlier_threshold);
-        if (!(psi > (refined ? options.refined_circumference_ratio : options.circumference_ratio))) continue;
+        if (!FitAndValidate(curves, group, 3, center, options, s, &e)) continue;
         if (static_cast<int>(candidates->size()) >= options.max_candidates) {
           stats->caps_hit |= kCapCandidates;
           return;
         }
-        e.score = k + psi;
         candidates->push_back({e, {ab.prev, b, bc.next}});
       }
     }
