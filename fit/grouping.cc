@@ -55,10 +55,10 @@ double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& 
 // On success *e holds the ellipse with score K + psi.
 bool FitAndValidate(const Curves& curves, const Arc* const* group, int count, const Eigen::Vector2d& center,
                     const Options& options, GroupScratch* s, Ellipse* e) {
-  if (!EstimateParameters(curves, group, count, center, &s->params, e)) return false;
-  // The refit (our addition) replaces the estimate before validation; it fits a true group to
-  // the pixel, so psi can be held to a much stricter bar (README: measured).
+  // The refit (our addition) takes the place of the estimate of eqs. 8-12 when it succeeds; it
+  // fits a true group to the pixel, so psi can be held to a much stricter bar (README: measured).
   const bool refined = options.refine_fit && RefineEllipse(curves, group, count, &s->refine, e);
+  if (!refined && !EstimateParameters(curves, group, count, center, &s->params, e)) return false;
   if (!(e->b >= 1.0)) return false;
   const double k = LengthRatio(group, count, *e);
   if (!(k > options.length_ratio)) return false;
