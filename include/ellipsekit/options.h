@@ -20,10 +20,11 @@ enum class CenterMethod {
 };
 
 // T_O of sec. II-A is ambiguous: the text says a minimum side length, Fig. 11(B) a side ratio.
-// Measured with `ellipsekit eval` (refine_fit on, inlier_rule pixel), F-measure / median ms:
-//   kMinSide 2 px:    prasad_subset 0.842 / 9 ms,  200 scenes (seed 7) 0.673 / 20 ms   <- default
-//   kMinSide 3 px:                  0.815 / 5 ms,                      0.630 / 12 ms
-//   kSideRatio 20:                  0.750 / 67 ms,                     0.680 / 45 ms
+// Measured with `ellipsekit eval` (all other options default), F-measure on prasad_subset / on
+// 200 generated scenes (`ellipsekit scenes --count 200 --seed 7`):
+//   kMinSide 2 px: 0.842 / 0.696   <- default (best sum)
+//   kMinSide 3 px: 0.815 / 0.657
+//   kSideRatio 20: 0.750 / 0.706
 // (the paper's "20" read as a side length would drop every arc shorter than 20 px across).
 enum class ObbRule {
   kMinSide,    // drop a curve whose OBB_min short side < obb_threshold px
@@ -32,8 +33,8 @@ enum class ObbRule {
 
 // T_d of eq. 15 is ambiguous: eq. 15 is dimensionless, Fig. 12(B) calls it a pixel distance.
 // With T_d = 1 the algebraic reading accepts every point with 0 < X + Y < 2, i.e. almost anything
-// near the ellipse. Measured (side-ratio OBB rule, refine on): kAlgebraic prasad_subset F 0.306,
-// 200 scenes 0.381; kPixel 0.750 and 0.680 -> kPixel is the default.
+// near the ellipse. Measured (defaults otherwise): kAlgebraic prasad_subset F 0.431, 200 scenes
+// 0.493; kPixel 0.842 and 0.696 -> kPixel is the default.
 enum class InlierRule {
   kAlgebraic,  // d = |X + Y - 1| < inlier_threshold (eq. 15 as written)
   kPixel,      // approximate geometric distance to the ellipse < inlier_threshold px
@@ -79,8 +80,8 @@ struct Options {
   double cluster_relative = 0.1;    // tolerance of ClusterRule::kRelative
   // Our addition: within a cluster, a concentric larger ellipse whose score is within this margin
   // of the best represents the cluster (a can's outer rim rather than its inner lip). Measured F
-  // (200 scenes / prasad_subset / edcircles_mini): off 0.673/0.842/0.650; 0.05 0.696/0.842/0.675;
-  // 0.1 0.747/0.737/0.675; 0.2 0.773/0.737/0.700. 0.05 is the largest that costs nothing anywhere.
+  // (200 scenes / prasad_subset / edcircles_mini): off (< 0) 0.673/0.842/0.650; 0.05 0.696/0.842/
+  // 0.675; 0.1 0.747/0.737/0.675; 0.2 0.773/0.737/0.700. 0.05 is the largest that costs nothing.
   double cluster_outer_margin = 0.05;
   // Our addition: refit each candidate by least squares on its arcs' points before validation;
   // a refitted ellipse must then reach psi > refined_circumference_ratio instead of T_psi.
