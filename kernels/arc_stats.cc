@@ -18,22 +18,24 @@ ArcStats MakeArc(const Curves& c, int curve, std::int32_t begin, std::int32_t en
   a.xm = c.x[mid]; a.ym = c.y[mid];
   a.min_x = a.max_x = a.x0;
   a.min_y = a.max_y = a.y0;
+  // Bulge: the offsets 2 p_i - (first + last) summed over every point (exact in int64).
+  std::int64_t bx = 0, by = 0;
   for (std::int32_t i = begin; i <= end; ++i) {
     a.min_x = std::min(a.min_x, c.x[i]); a.max_x = std::max(a.max_x, c.x[i]);
     a.min_y = std::min(a.min_y, c.y[i]); a.max_y = std::max(a.max_y, c.y[i]);
+    bx += 2 * c.x[i] - (a.x0 + a.x1);
+    by += 2 * c.y[i] - (a.y0 + a.y1);
   }
   const std::int32_t k = std::clamp((end - begin + 1) / 4, 1, 4);
   for (std::int32_t i = 0; i < k; ++i) {
     a.g0x += c.gx[begin + i]; a.g0y += c.gy[begin + i];
     a.g1x += c.gx[end - i];   a.g1y += c.gy[end - i];
   }
-  const std::int32_t bx = 2 * a.xm - (a.x0 + a.x1);
-  const std::int32_t by = 2 * a.ym - (a.y0 + a.y1);
   if (a.sign_class == 2) {  // kEdgeMinus
-    const std::int32_t s = bx - by;
+    const std::int64_t s = bx - by;
     a.quadrant = s > 0 ? kQuadrantI : s < 0 ? kQuadrantIII : kQuadrantNone;
   } else {
-    const std::int32_t s = bx + by;
+    const std::int64_t s = bx + by;
     a.quadrant = s < 0 ? kQuadrantII : s > 0 ? kQuadrantIV : kQuadrantNone;
   }
   return a;

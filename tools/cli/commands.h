@@ -11,10 +11,13 @@ int RunDetect(const std::vector<std::string>& args);
 int RunEval(const std::vector<std::string>& args);
 int RunScenes(const std::vector<std::string>& args);
 int RunDemo(const std::vector<std::string>& args);
+int RunConform(const std::vector<std::string>& args);  // tools/cli/conform_command.cc
+int RunTrack(const std::vector<std::string>& args);    // tools/cli/track_command.cc
 
 extern const char kDetectUsage[];
 extern const char kEvalUsage[];
 extern const char kScenesUsage[];
 extern const char kDemoUsage[];
+extern const char kTrackUsage[];
 
 }  // namespace ellipsekit::cli

@@ -4,6 +4,7 @@
 //   ellipsekit eval DATASET_DIR [--backend B] [--per-image] [--json FILE]
 //   ellipsekit scenes --out DIR [--count N] [--seed S]
 //   ellipsekit demo [--out DIR]
+//   ellipsekit track SEQ_DIR [--conveyor] [--radius R] [--latency S] --out FILE.jsonl
 //
 // Exit status: 0 ok, 1 a file or detection problem (each reported on stderr), 2 bad usage.
 #include <cstdio>
@@ -26,6 +27,7 @@ constexpr char kUsage[] =
     "  eval DATASET_DIR     detect on a dataset (images/, gt/) and print precision, recall, F-measure\n"
     "  scenes --out DIR     write a generated dataset of synthetic scenes with exact ground truth\n"
     "  demo [--out DIR]     detect on 12 generated scenes, write overlays and a summary\n"
+    "  track SEQ_DIR        track cylinder tops in a sequence (depth, conveyor speed, grasps)\n"
     "\n"
     "Run 'ellipsekit <command> --help' for the options of a command.\n"
     "Exit status: 0 ok, 1 a file or detection problem (reported on stderr), 2 bad usage.\n";
@@ -53,6 +55,9 @@ int main(int argc, char** argv) {
     run = RunScenes;
   } else if (command == "demo") {
     run = RunDemo;
+  } else if (command == "conform") { run = RunConform;
+  } else if (command == "track") {
+    run = RunTrack;
   } else {
     std::fprintf(stderr, "ellipsekit: unknown command '%s' (run 'ellipsekit --help')\n",
                  command.c_str());
