@@ -89,18 +89,21 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
   for (auto& q : s->by_quadrant) q.clear();
   for (int i = 0; i < n; ++i) s->by_quadrant[arcs[i].quadrant].push_back(i);
 
-  // Pairs.
+  // Pairs. The position test is a few comparisons (bounded by max_arcs squared); the cap counts
+  // the pairs that pass it, each of which costs a centre. It is shared evenly by the four kinds,
+  // so a capped frame still has pairs of every kind to make triplets from.
   s->pairs.clear();
-  long examined = 0;
-  for (int q = 1; q <= 4 && !(stats->caps_hit & kCapPairs); ++q) {
+  const int per_kind = std::max(1, options.max_pairs / 4);
+  for (int q = 1; q <= 4; ++q) {
+    int kept = 0;
     for (int i : s->by_quadrant[q]) {
       for (int j : s->by_quadrant[NextQuadrant(q)]) {
-        if (++examined > options.max_pairs) { stats->caps_hit |= kCapPairs; break; }
         if (!RelativePositionHolds(arcs[i], arcs[j])) continue;
+        if (kept >= per_kind) { stats->caps_hit |= kCapPairs; break; }
         Eigen::Vector2d c;
-        if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) s->pairs.push_back({i, j, c});
+        if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) { s->pairs.push_back({i, j, c}); ++kept; }
       }
-      if (stats->caps_hit & kCapPairs) break;
+      if (kept >= per_kind) break;
     }
   }
   stats->pairs = static_cast<int>(s->pairs.size());

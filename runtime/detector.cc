@@ -200,6 +200,8 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   for (std::size_t i = 0; i < edge_map.size(); ++i) r->num_edge_pixels += edge_map[i] != 0;
   r->num_curves = curves.size();
   r->num_arcs = static_cast<int>(arcs.size());
+  r->num_pairs = gs.pairs;
+  r->num_triplets = gs.triplets;
   r->num_candidates = num_candidates;
   r->timings.edges_ms = Ms(t0, t1);
   r->timings.curves_ms = Ms(t1, t2);

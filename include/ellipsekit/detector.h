@@ -46,6 +46,8 @@ struct DetectionResult {
   int num_edge_pixels = 0;
   int num_curves = 0;
   int num_arcs = 0;
+  int num_pairs = 0;       // arc pairs that passed the position test and gave a centre
+  int num_triplets = 0;    // triplets examined (bounded by Options::max_triplets)
   int num_candidates = 0;
 };
 
