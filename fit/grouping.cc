@@ -71,9 +71,9 @@ bool FitAndValidate(const Curves& curves, const Arc* const* group, int count, co
 }  // namespace
 
 void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
-  const std::size_t arcs = std::min<std::size_t>(pixels, static_cast<std::size_t>(options.max_arcs));
+  const std::size_t arcs = std::min<std::size_t>(pixels, ReserveFor(options.max_arcs));
   for (auto& q : by_quadrant) q.reserve(arcs);
-  const std::size_t max_pairs = static_cast<std::size_t>(options.max_pairs);
+  const std::size_t max_pairs = ReserveFor(options.max_pairs);
   pairs.reserve(max_pairs);
   as_next.reserve(max_pairs);
   as_prev.reserve(max_pairs);

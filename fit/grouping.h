@@ -25,6 +25,12 @@
 
 namespace ellipsekit {
 
+// Buffers bounded by a cap are reserved up to min(cap, kMaxReserved) on the first frame: with
+// the default caps (all below it) no later frame allocates; a caller who raises a cap past it
+// trades that guarantee for the headroom instead of reserving gigabytes up front.
+inline constexpr int kMaxReserved = 1 << 16;
+std::size_t ReserveFor(int cap);
+
 struct GroupScratch {
   struct Pair {
     int prev, next;  // arc indices; prev is the earlier quadrant counter-clockwise

@@ -3,6 +3,7 @@
 // vectors only clear() afterwards, so later frames of that size reuse their capacity.
 #include "ellipsekit/detector.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -30,6 +31,14 @@ double Ms(Clock::time_point a, Clock::time_point b) {
 Status Invalid(const std::string& what) { return {StatusCode::kInvalidArgument, what}; }
 
 bool Finite(double v) { return std::isfinite(v); }
+
+}  // namespace
+
+std::size_t ReserveFor(int cap) {
+  return static_cast<std::size_t>(std::min(cap, kMaxReserved));
+}
+
+namespace {
 
 }  // namespace
 
@@ -63,6 +72,14 @@ Status ValidateOptions(const Options& o) {
     case Backend::kAuto: case Backend::kScalar: case Backend::kSimd: case Backend::kVulkan: break;
     default: return Invalid("backend is not one of Auto, Scalar, Simd, Vulkan");
   }
+  if (o.center_method != CenterMethod::kLongestChords && o.center_method != CenterMethod::kArcChords)
+    return Invalid("center_method is not one of LongestChords, ArcChords");
+  if (o.obb_rule != ObbRule::kMinSide && o.obb_rule != ObbRule::kSideRatio)
+    return Invalid("obb_rule is not one of MinSide, SideRatio");
+  if (o.inlier_rule != InlierRule::kAlgebraic && o.inlier_rule != InlierRule::kPixel)
+    return Invalid("inlier_rule is not one of Algebraic, Pixel");
+  if (o.cluster_rule != ClusterRule::kFeatureDistance && o.cluster_rule != ClusterRule::kRelative)
+    return Invalid("cluster_rule is not one of FeatureDistance, Relative");
   return Status::Ok();
 }
 
@@ -128,7 +145,7 @@ struct Detector::Impl {
     arc_scratch.stats.reserve(n);
     arc_scratch.hull.reserve(3 * n);
     arcs.reserve(n);
-    candidates.reserve(static_cast<std::size_t>(options.max_candidates));
+    candidates.reserve(ReserveFor(options.max_candidates));
     groups.Reserve(n, options);
   }
 
@@ -230,11 +247,20 @@ Detector::~Detector() = default;
 Detector::Detector(Detector&&) noexcept = default;
 Detector& Detector::operator=(Detector&&) noexcept = default;
 
-Status Detector::status() const { return impl_->status; }
-const Options& Detector::options() const { return impl_->options; }
+namespace {
+Status MovedFrom() { return {StatusCode::kInvalidArgument, "this Detector was moved from; create a new one"}; }
+}  // namespace
+
+Status Detector::status() const { return impl_ ? impl_->status : MovedFrom(); }
+
+const Options& Detector::options() const {
+  static const Options kDefaults;
+  return impl_ ? impl_->options : kDefaults;
+}
 
 Status Detector::detect(const ImageView& image, DetectionResult* result) {
   if (result == nullptr) return Invalid("result is null");
+  if (!impl_) return MovedFrom();
   if (!impl_->status.ok()) return impl_->status;
   Status st = ValidateImage(image, impl_->options);
   if (!st.ok()) return st;

@@ -61,6 +61,7 @@ class Detector {
   Detector& operator=(const Detector&) = delete;
 
   // Options are checked here; an invalid set makes every detect() return that error.
+  // A moved-from Detector answers every call with an error status (and default options).
   Status status() const;
   const Options& options() const;
 

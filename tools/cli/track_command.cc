@@ -358,7 +358,14 @@ std::vector<Ellipse> MergeConcentric(const std::vector<Ellipse>& dets) {
 }
 
 std::string Vec(const Eigen::Vector3d& v, int digits = 5) {
-  return "[" + JsonNumber(v.x(), digits) + ", " + JsonNumber(v.y(), digits) + ", " + JsonNumber(v.z(), digits) + "]";
+  std::string s(1, '[');  // (appends: GCC 12 warns falsely on "literal" + string)
+  s += JsonNumber(v.x(), digits);
+  s += ", ";
+  s += JsonNumber(v.y(), digits);
+  s += ", ";
+  s += JsonNumber(v.z(), digits);
+  s += ']';
+  return s;
 }
 
 struct Track3D {
@@ -447,7 +454,10 @@ int RunTrack(const std::vector<std::string>& argv) {
   std::int64_t belt_id = -1;  // the track riding the guide
 
   const fs::path out_path(out);
-  const fs::path tmp_path = out_path.parent_path() / ("." + out_path.filename().string() + ".tmp");
+  std::string tmp_name(".");
+  tmp_name += out_path.filename().string();
+  tmp_name += ".tmp";
+  const fs::path tmp_path = out_path.parent_path() / tmp_name;
   std::FILE* f = std::fopen(tmp_path.string().c_str(), "wb");
   if (f == nullptr) {
     std::fprintf(stderr, "ellipsekit track: %s: cannot open for writing\n", tmp_path.string().c_str());

@@ -11,6 +11,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
 #include <limits>
 #include <system_error>
 
@@ -226,6 +229,9 @@ class World {
   World(const SceneOptions& o, std::uint64_t seed) : opt_(o), rng_(seed), W_(o.width), H_(o.height) {}
 
   Scene Build();
+  // A conveyor sequence in this world (see scene_generator.h).
+  ellipsekit::Status BuildConveyor(const ConveyorSceneOptions& co, std::uint64_t seed, ConveyorSequence* info,
+                                   const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink);
 
  private:
   // setup
@@ -257,7 +263,10 @@ class World {
   double Noise(double x, double y) const;
   double Vignette(double u, double v) const;
 
+  float RenderPixel(int x, int y) const;
   void Render(std::vector<float>* img) const;
+  void RenderRect(const IRect& r, std::vector<float>* img) const;  // img already W_ x H_
+  void RenderDepth(const IRect& r, std::vector<double>* z) const;   // z of the first hit, 0 = none
   void Finish(const std::vector<float>& img, cv::Mat* gray);
 
   SceneOptions opt_;
@@ -276,6 +285,7 @@ class World {
   std::vector<Cylinder> cyl_;
   std::vector<Box> box_;
   std::vector<Shape> shape_;
+  bool no_boxes_ = false;  // conveyor worlds: flat clutter only
 };
 
 // ---------------------------------------------------------------- setup
@@ -473,7 +483,7 @@ void World::PlaceClutter() {
   int boxes = 0;
   for (int i = 0; i < opt_.clutter_shapes; ++i) {
     const double pick = rng_.Uniform();
-    if (pick < 0.2 && boxes < 3) {
+    if (pick < 0.2 && boxes < 3 && !no_boxes_) {
       if (PlaceBox()) ++boxes;
     } else if (pick < 0.45) {
       PlaceShape(ShapeKind::kLine);
@@ -1018,22 +1028,45 @@ double World::ShadeAt(double u, double v) const {
   return Shade(h, D, D, &tc) * Vignette(u, v);
 }
 
+// One pixel: the mean of 2x2 sub-samples at (x +- 0.25, y +- 0.25), times the vignette.
+float World::RenderPixel(int x, int y) const {
+  static constexpr double kSub[4][2] = {{-0.25, -0.25}, {0.25, -0.25}, {-0.25, 0.25}, {0.25, 0.25}};
+  const V3 Dc = cam_.Ray(x, y);
+  TexCache tc;
+  double sum = 0;
+  for (const auto& sub : kSub) {
+    const V3 D = cam_.Ray(x + sub[0], y + sub[1]);
+    Hit h;
+    Trace(D, x, y, &h);
+    sum += Shade(h, D, Dc, &tc);
+  }
+  return static_cast<float>(0.25 * sum * Vignette(x, y));
+}
+
 void World::Render(std::vector<float>* img) const {
   img->assign(static_cast<size_t>(W_) * H_, 0.f);
-  static constexpr double kSub[4][2] = {{-0.25, -0.25}, {0.25, -0.25}, {-0.25, 0.25}, {0.25, 0.25}};
-  for (int y = 0; y < H_; ++y) {
+  RenderRect(IRect{0, 0, W_ - 1, H_ - 1}, img);
+}
+
+void World::RenderRect(const IRect& r, std::vector<float>* img) const {
+  const int x0 = std::max(r.x0, 0), y0 = std::max(r.y0, 0);
+  const int x1 = std::min(r.x1, W_ - 1), y1 = std::min(r.y1, H_ - 1);
+  for (int y = y0; y <= y1; ++y) {
     float* row = img->data() + static_cast<size_t>(y) * W_;
-    for (int x = 0; x < W_; ++x) {
-      const V3 Dc = cam_.Ray(x, y);
-      TexCache tc;
-      double sum = 0;
-      for (const auto& sub : kSub) {
-        const V3 D = cam_.Ray(x + sub[0], y + sub[1]);
-        Hit h;
-        Trace(D, x, y, &h);
-        sum += Shade(h, D, Dc, &tc);
-      }
-      row[x] = static_cast<float>(0.25 * sum * Vignette(x, y));
+    for (int x = x0; x <= x1; ++x) row[x] = RenderPixel(x, y);
+  }
+}
+
+// Camera-axis depth of the first hit of each pixel's centre ray: D . forward = 1, so the ray
+// parameter s is that depth. 0 where the ray sees no surface.
+void World::RenderDepth(const IRect& r, std::vector<double>* z) const {
+  const int x0 = std::max(r.x0, 0), y0 = std::max(r.y0, 0);
+  const int x1 = std::min(r.x1, W_ - 1), y1 = std::min(r.y1, H_ - 1);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      Hit h;
+      Trace(cam_.Ray(x, y), x, y, &h);
+      (*z)[static_cast<size_t>(y) * W_ + x] = (h.part == kBackground || !std::isfinite(h.s)) ? 0.0 : h.s;
     }
   }
 }
@@ -1102,6 +1135,150 @@ Scene World::Build() {
   Finish(img, &scene.gray);
   for (const Cylinder& c : cyl_) scene.truth.push_back(c.truth);
   return scene;
+}
+
+ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uint64_t seed, ConveyorSequence* info,
+                                        const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  no_boxes_ = true;
+  SetupCamera();
+  SetupLightAndSurfaces();
+
+  Cylinder can;
+  can.kind = CylKind::kCan;
+  can.r = rng_.Uniform(0.03, 0.04);
+  can.h = rng_.Uniform(0.08, 0.12);
+  can.r2 = can.r * can.r;
+  can.r_in = can.r - 0.003;
+  can.r_in2 = can.r_in * can.r_in;
+  can.z_floor = 0.01;
+  ColorCylinder(&can);
+
+  // The guide: through the table point below the image centre, roughly along the image rows.
+  V3 mid;
+  if (!TablePointAt(cam_.pcx, cam_.pcy, can.h, &mid))
+    return Status(StatusCode::kInternal, "conveyor: the camera does not see the table");
+  const double ang = rng_.Uniform(-25, 25) * kPi / 180;
+  const V3 h0 = Normalize(V3{cam_.right.x, cam_.right.y, 0});
+  const V3 dir{h0.x * std::cos(ang) - h0.y * std::sin(ang), h0.x * std::sin(ang) + h0.y * std::cos(ang), 0};
+  auto fits = [&](double s) {
+    Cylinder c = can;
+    c.x = mid.x + dir.x * s;
+    c.y = mid.y + dir.y * s;
+    if (has_wall_ && c.x + c.r > wall_x_ - 0.01) return false;
+    if (!ComputeTruth(&c)) return false;
+    const ellipsekit::Ellipse& e = c.truth;
+    const double ct = std::cos(e.theta), st = std::sin(e.theta);
+    const double ex = std::sqrt(e.a * e.a * ct * ct + e.b * e.b * st * st);
+    const double ey = std::sqrt(e.a * e.a * st * st + e.b * e.b * ct * ct);
+    const double m = 12;
+    return e.b >= 4 && e.cx - ex >= m && e.cx + ex <= W_ - 1 - m && e.cy - ey >= m && e.cy + ey <= H_ - 1 - m;
+  };
+  double L = co.guide_length_m;
+  for (int k = 0; k < 60 && !(fits(-0.5 * L) && fits(0.5 * L)); ++k) L *= 0.93;
+  if (!(fits(-0.5 * L) && fits(0.5 * L)))
+    return Status(StatusCode::kInternal, "conveyor: the can does not fit in the image (image too small?)");
+  const V3 start{mid.x - dir.x * 0.5 * L, mid.y - dir.y * 0.5 * L, can.h};
+  const V3 end{mid.x + dir.x * 0.5 * L, mid.y + dir.y * 0.5 * L, can.h};
+
+  PlaceClutter();
+  can.x = start.x;
+  can.y = start.y;
+  ComputeTruth(&can);
+  FinishCylinderBounds(&can);
+  cyl_.push_back(can);
+  FixContrast();
+  can = cyl_[0];
+
+  // The static world (everything but the can) once; each frame re-renders only the can's region
+  // (its bounding box and its shadow's), which the can does not affect outside.
+  cyl_.clear();
+  std::vector<float> bg;
+  Render(&bg);
+  std::vector<double> bgz(static_cast<size_t>(W_) * H_, 0.0);
+  RenderDepth(IRect{0, 0, W_ - 1, H_ - 1}, &bgz);
+  cyl_.push_back(can);
+
+  ConveyorSequence seq;
+  seq.width = W_;
+  seq.height = H_;
+  seq.K = cam_.K();
+  seq.T_world_camera = cv::Matx44d(cam_.right.x, cam_.down.x, cam_.fwd.x, cam_.pos.x,  //
+                                   cam_.right.y, cam_.down.y, cam_.fwd.y, cam_.pos.y,  //
+                                   cam_.right.z, cam_.down.z, cam_.fwd.z, cam_.pos.z,  //
+                                   0, 0, 0, 1);
+  seq.start_point = cv::Vec3d(start.x, start.y, start.z);
+  seq.end_point = cv::Vec3d(end.x, end.y, end.z);
+  double u, v;
+  cam_.Project(start, &u, &v);
+  seq.start_pixel = cv::Vec2d(u, v);
+  cam_.Project(end, &u, &v);
+  seq.end_pixel = cv::Vec2d(u, v);
+  seq.speed_m_s = co.speed_m_s;
+  seq.length_m = L;
+  seq.radius_m = can.r;
+  seq.height_m = can.h;
+  seq.fps = co.fps;
+  seq.frames = co.frames;
+  if (info != nullptr) *info = seq;
+
+  Rng drng(Mix64(seed ^ 0x6A09E667F3BCC909ull));
+  std::vector<float> img;
+  std::vector<double> z;
+  for (int i = 0; i < co.frames; ++i) {
+    ConveyorFrame fr;
+    fr.index = i;
+    fr.t = i / co.fps;
+    const cv::Vec3d p = seq.TopCentreAt(fr.t);
+    Cylinder& c = cyl_[0];
+    c.x = p[0];
+    c.y = p[1];
+    if (!ComputeTruth(&c)) return Status(StatusCode::kInternal, "conveyor: degenerate top ellipse");
+    FinishCylinderBounds(&c);
+    IRect r = c.bbox;
+    if (c.shadow_bbox.x1 >= c.shadow_bbox.x0 && c.shadow_bbox.y1 >= c.shadow_bbox.y0) {
+      r.x0 = std::min(r.x0, c.shadow_bbox.x0);
+      r.y0 = std::min(r.y0, c.shadow_bbox.y0);
+      r.x1 = std::max(r.x1, c.shadow_bbox.x1);
+      r.y1 = std::max(r.y1, c.shadow_bbox.y1);
+    }
+    img = bg;
+    RenderRect(r, &img);
+    z = bgz;
+    RenderDepth(r, &z);
+    Finish(img, &fr.gray);
+    fr.depth_mm.create(H_, W_, CV_16UC1);
+    for (int y = 0; y < H_; ++y) {
+      std::uint16_t* dst = fr.depth_mm.ptr<std::uint16_t>(y);
+      for (int x = 0; x < W_; ++x) {
+        const double zz = z[static_cast<size_t>(y) * W_ + x];
+        // Draw the random numbers for every pixel, so the noise does not depend on the content.
+        const double n = drng.Normal(), drop = drng.Uniform(), edge_drop = drng.Uniform();
+        if (!(zz > 0)) {
+          dst[x] = 0;
+          continue;
+        }
+        double jump = 0;
+        if (x > 0) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y) * W_ + x - 1]));
+        if (x + 1 < W_) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y) * W_ + x + 1]));
+        if (y > 0) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y - 1) * W_ + x]));
+        if (y + 1 < H_) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y + 1) * W_ + x]));
+        if (drop < co.depth_invalid_fraction || (jump > 0.02 && edge_drop < 0.5)) {
+          dst[x] = 0;
+          continue;
+        }
+        const double mm = zz * 1000 + co.depth_noise_mm * (1 + zz * zz) * n;
+        dst[x] = static_cast<std::uint16_t>(Clamp(std::floor(mm + 0.5), 1.0, 65535.0));
+      }
+    }
+    fr.top_centre = p;
+    cam_.Project(V3{p[0], p[1], p[2]}, &u, &v);
+    fr.top_pixel = cv::Vec2d(u, v);
+    fr.truth = c.truth;
+    if (ellipsekit::Status st = sink(fr); !st.ok()) return st;
+  }
+  return Status::Ok();
 }
 
 std::string JoinPath(const std::filesystem::path& dir, const std::string& name) { return (dir / name).string(); }
@@ -1194,6 +1371,166 @@ ellipsekit::Status WriteSceneDataset(const std::string& dir, int count, std::uin
     std::filesystem::rename(txt_tmp, txt, ec);
     if (ec) return Status(StatusCode::kInternal, "cannot rename " + txt_tmp + " to " + txt + ": " + ec.message());
   }
+  return Status::Ok();
+}
+
+// ---------------------------------------------------------------- conveyor sequences
+double ConveyorSequence::PositionAt(double t) const {
+  if (!(length_m > 0) || !(speed_m_s > 0)) return 0;
+  const double p = std::fmod(std::max(0.0, speed_m_s * t), 2 * length_m);
+  return p <= length_m ? p : 2 * length_m - p;
+}
+
+cv::Vec3d ConveyorSequence::TopCentreAt(double t) const {
+  const double s = PositionAt(t);
+  const cv::Vec3d d = end_point - start_point;
+  const double n = std::sqrt(d.dot(d));
+  return n > 0 ? start_point + d * (s / n) : start_point;
+}
+
+ellipsekit::Status ValidateConveyorOptions(const ConveyorSceneOptions& o) {
+  auto bad = [](const std::string& m) { return ellipsekit::Status(ellipsekit::StatusCode::kInvalidArgument, m); };
+  if (o.width < 64 || o.width > 8192 || o.height < 64 || o.height > 8192)
+    return bad("conveyor image size must be 64..8192 px, got " + std::to_string(o.width) + "x" +
+               std::to_string(o.height));
+  if (!(o.speed_m_s > 0 && o.speed_m_s <= 10)) return bad("conveyor speed must be in (0, 10] m/s");
+  if (!(o.fps > 0 && o.fps <= 10000)) return bad("conveyor fps must be in (0, 10000]");
+  if (o.frames < 1 || o.frames > 1000000) return bad("conveyor frames must be 1..999999");
+  if (!(o.guide_length_m > 0.01 && o.guide_length_m <= 10)) return bad("guide_length_m must be in (0.01, 10]");
+  if (o.clutter_shapes < 0 || o.clutter_shapes > 1000) return bad("clutter_shapes must be 0..1000");
+  if (!(o.noise_sigma >= 0 && o.noise_sigma <= 1000)) return bad("noise_sigma must be finite and >= 0");
+  if (!(o.blur_sigma >= 0 && o.blur_sigma <= 50)) return bad("blur_sigma must be 0..50");
+  if (!(o.depth_noise_mm >= 0 && o.depth_noise_mm <= 1000)) return bad("depth_noise_mm must be finite and >= 0");
+  if (!(o.depth_invalid_fraction >= 0 && o.depth_invalid_fraction <= 1))
+    return bad("depth_invalid_fraction must be in [0, 1]");
+  return ellipsekit::Status::Ok();
+}
+
+ellipsekit::Status RenderConveyorSequence(std::uint64_t seed, const ConveyorSceneOptions& options,
+                                          ConveyorSequence* info,
+                                          const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink) {
+  if (ellipsekit::Status st = ValidateConveyorOptions(options); !st.ok()) return st;
+  SceneOptions so;
+  so.width = options.width;
+  so.height = options.height;
+  so.min_tilt_deg = 45;
+  so.max_tilt_deg = 65;
+  so.min_objects = so.max_objects = 1;
+  so.occlusion = false;
+  so.clutter_shapes = options.clutter_shapes;
+  so.noise_sigma = options.noise_sigma;
+  so.blur_sigma = options.blur_sigma;
+  World world(so, seed);
+  return world.BuildConveyor(options, seed, info, sink);
+}
+
+namespace {
+
+ellipsekit::Status WriteTextFile(const std::filesystem::path& path, const std::string& text) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  std::string tmp_name(".");  // (appends: GCC 12 warns falsely on "literal" + string)
+  tmp_name += path.filename().string();
+  tmp_name += ".tmp";
+  const std::filesystem::path tmp = path.parent_path() / tmp_name;
+  std::FILE* f = std::fopen(tmp.string().c_str(), "wb");
+  if (f == nullptr) return Status(StatusCode::kInternal, "cannot open " + tmp.string() + " for writing");
+  bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  ok &= std::fclose(f) == 0;
+  std::error_code ec;
+  if (!ok) {
+    std::filesystem::remove(tmp, ec);
+    return Status(StatusCode::kInternal, "cannot write " + tmp.string());
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Status(StatusCode::kInternal, "cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  return Status::Ok();
+}
+
+ellipsekit::Status WritePng(const std::filesystem::path& path, const cv::Mat& m) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  std::string tmp_name(".");
+  tmp_name += path.stem().string();
+  tmp_name += ".tmp.png";
+  const std::filesystem::path tmp = path.parent_path() / tmp_name;
+  bool written = false;
+  try {
+    written = cv::imwrite(tmp.string(), m);
+  } catch (const cv::Exception&) {
+    written = false;
+  }
+  std::error_code ec;
+  if (!written) {
+    std::filesystem::remove(tmp, ec);
+    return Status(StatusCode::kInternal, "cannot write image " + tmp.string());
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Status(StatusCode::kInternal, "cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  return Status::Ok();
+}
+
+std::string Fmt(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+template <class It>
+std::string JsonList(It begin, It end, const char* fmt) {
+  std::string s = "[";
+  for (It it = begin; it != end; ++it) s += (it == begin ? "" : ", ") + Fmt(fmt, *it);
+  return s + "]";
+}
+
+}  // namespace
+
+ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t seed,
+                                         const ConveyorSceneOptions& options, ConveyorSequence* info) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  if (dir.empty()) return Status(StatusCode::kInvalidArgument, "sequence directory is empty");
+  if (Status st = ValidateConveyorOptions(options); !st.ok()) return st;
+  if (options.frames > 999999) return Status(StatusCode::kInvalidArgument, "at most 999999 frames (6-digit names)");
+  const std::filesystem::path root(dir), frames = root / "frames", depth = root / "depth";
+  for (const auto& d : {frames, depth}) {
+    std::error_code ec;
+    std::filesystem::create_directories(d, ec);
+    if (ec || !std::filesystem::is_directory(d, ec))
+      return Status(StatusCode::kInternal, "cannot create directory " + d.string() + ": " + ec.message());
+  }
+  std::string times, truth;
+  ConveyorSequence seq;
+  Status st = RenderConveyorSequence(seed, options, &seq, [&](const ConveyorFrame& fr) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", fr.index);
+    if (Status s = WritePng(frames / name, fr.gray); !s.ok()) return s;
+    if (Status s = WritePng(depth / name, fr.depth_mm); !s.ok()) return s;
+    times += Fmt("%.9g", fr.t) + "\n";
+    const double el[5] = {fr.truth.cx, fr.truth.cy, fr.truth.a, fr.truth.b, fr.truth.theta};
+    truth += "{\"t\": " + Fmt("%.9g", fr.t) + ", \"tops\": [{\"centre\": " +
+             JsonList(fr.top_centre.val, fr.top_centre.val + 3, "%.6f") +
+             ", \"pixel\": " + JsonList(fr.top_pixel.val, fr.top_pixel.val + 2, "%.4f") +
+             ", \"ellipse\": " + JsonList(el, el + 5, "%.6f") + "}]}\n";
+    return Status::Ok();
+  });
+  if (!st.ok()) return st;
+  const double D[5] = {0, 0, 0, 0, 0};
+  const std::string camera = "{\"width\": " + std::to_string(seq.width) + ", \"height\": " + std::to_string(seq.height) +
+                             ", \"K\": " + JsonList(seq.K.val, seq.K.val + 9, "%.17g") +
+                             ", \"D\": " + JsonList(D, D + 5, "%.17g") +
+                             ", \"T_world_camera\": " + JsonList(seq.T_world_camera.val, seq.T_world_camera.val + 16, "%.17g") +
+                             "}\n";
+  const std::string conveyor =
+      "{\"references\": [{\"point\": " + JsonList(seq.start_point.val, seq.start_point.val + 3, "%.17g") +
+      ", \"pixel\": " + JsonList(seq.start_pixel.val, seq.start_pixel.val + 2, "%.17g") + "}, {\"point\": " +
+      JsonList(seq.end_point.val, seq.end_point.val + 3, "%.17g") +
+      ", \"pixel\": " + JsonList(seq.end_pixel.val, seq.end_pixel.val + 2, "%.17g") + "}]}\n";
+  for (const auto& [name, text] : {std::pair<const char*, const std::string*>{"timestamps.txt", &times},
+                                   {"camera.json", &camera}, {"conveyor.json", &conveyor}, {"truth.jsonl", &truth}}) {
+    if (Status s = WriteTextFile(root / name, *text); !s.ok()) return s;
+  }
+  if (info != nullptr) *info = seq;
   return Status::Ok();
 }
 

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -62,5 +63,70 @@ std::uint64_t MixSeed(std::uint64_t seed, std::uint64_t index);
 
 // One ground-truth line, "%.4f %.4f %.4f %.4f %.6f" (no newline).
 std::string FormatTruthLine(const ellipsekit::Ellipse& e);
+
+// ---------------------------------------------------------------- conveyor sequences
+// One can riding a straight guide on the table (same ray caster, camera, light, table and flat
+// clutter as RenderScene; no boxes, so nothing occludes the can). The can starts at the guide's
+// start end at t = 0, moves at `speed_m_s` and turns round at each end (the paper's return phase):
+// position along the guide s(t) is a triangle wave between 0 and the guide's length.
+// Depth: z (metres along the camera axis) of the first hit at each pixel centre, plus Gaussian
+// noise of sigma depth_noise_mm * (1 + z^2 / 1 m^2), quantised to 1 mm; a share
+// depth_invalid_fraction of pixels, and about half of the pixels at depth jumps > 2 cm, read 0
+// (invalid), as do pixels that see no surface.
+struct ConveyorSceneOptions {
+  int width = 640, height = 480;
+  double speed_m_s = 0.05;        // > 0
+  double fps = 30;                // frames per second
+  int frames = 90;                // 3 s at 30 fps
+  double guide_length_m = 0.25;   // shortened when the can would leave the image
+  int clutter_shapes = 5;         // flat printed shapes and lines on the table
+  double noise_sigma = 3.0, blur_sigma = 0.8;  // as SceneOptions
+  double depth_noise_mm = 1.0;
+  double depth_invalid_fraction = 0.01;
+};
+
+struct ConveyorFrame {
+  int index = 0;
+  double t = 0;                  // seconds
+  cv::Mat gray;                  // CV_8UC1
+  cv::Mat depth_mm;              // CV_16UC1, millimetres along the camera z axis, 0 = invalid
+  cv::Vec3d top_centre;          // true top centre, world metres
+  cv::Vec2d top_pixel;           // its projection (pixels)
+  ellipsekit::Ellipse truth;     // exact image ellipse of the top rim
+};
+
+struct ConveyorSequence {
+  int width = 0, height = 0;
+  cv::Matx33d K;                 // pinhole, no distortion
+  cv::Matx44d T_world_camera;    // world = T * camera (camera optical frame: x right, y down, z forward)
+  cv::Vec3d start_point, end_point;  // top centre at each end of the guide, world metres
+  cv::Vec2d start_pixel, end_pixel;  // their projections
+  double speed_m_s = 0, length_m = 0, radius_m = 0, height_m = 0, fps = 30;
+  int frames = 0;
+
+  // Position along the guide (metres from the start end) and the true top centre at time t
+  // (any t >= 0, also beyond the last frame).
+  double PositionAt(double t) const;
+  cv::Vec3d TopCentreAt(double t) const;
+};
+
+// Ok, or kInvalidArgument naming the bad field.
+ellipsekit::Status ValidateConveyorOptions(const ConveyorSceneOptions& options);
+
+// Renders the sequence frame by frame, calling `sink` for each (in order); stops at the first
+// non-ok Status from the sink and returns it. `info` (optional) receives the camera and guide.
+ellipsekit::Status RenderConveyorSequence(std::uint64_t seed, const ConveyorSceneOptions& options,
+                                          ConveyorSequence* info,
+                                          const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink);
+
+// Writes a sequence directory: frames/NNNNNN.png, depth/NNNNNN.png (uint16 mm), timestamps.txt (one
+// time in seconds per line), camera.json {"width", "height", "K" (9, row-major), "D" (5 zeros),
+// "T_world_camera" (16, row-major)}, conveyor.json {"references": [{"point": [x, y, z], "pixel":
+// [u, v]} x 2]} and truth.jsonl (one line per frame: {"t": T, "tops": [{"centre": [x, y, z],
+// "pixel": [u, v], "ellipse": [cx, cy, a, b, theta]}]}). Files are written under temporary names,
+// then renamed.
+ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t seed,
+                                         const ConveyorSceneOptions& options = {},
+                                         ConveyorSequence* info = nullptr);
 
 }  // namespace ellipsekit::scenes

@@ -1,0 +1,189 @@
+// Bounded worst case (DESIGN.md "Bounded work"): adversarial 1920x1080 frames finish within 10x the
+// median time of a generated scene of the same size, and the result says which cap was hit.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "ellipsekit/ellipsekit.h"
+#include "tools/scenes/scene_generator.h"
+
+namespace ellipsekit {
+namespace {
+
+constexpr int kW = 1920, kH = 1080;
+constexpr double kMaxRatio = 10.0;
+
+ImageView ViewOf(const cv::Mat& m) {
+  return {m.ptr<std::uint8_t>(), m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step[0])};
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// Median wall time of `runs` detections, ms; `last` holds the last result.
+double TimeDetect(Detector* det, const cv::Mat& img, int runs, DetectionResult* last) {
+  std::vector<double> ms;
+  for (int i = 0; i < runs; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Status st = det->detect(ViewOf(img), last);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    EXPECT_TRUE(st.ok()) << st.message();
+  }
+  return Median(ms);
+}
+
+cv::Mat Noise() {
+  cv::Mat m(kH, kW, CV_8UC1);
+  std::mt19937 rng(1234);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) m.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(rng() >> 24);
+  return m;
+}
+
+cv::Mat Checkerboard(int cell) {
+  cv::Mat m(kH, kW, CV_8UC1);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) m.at<std::uint8_t>(y, x) = ((x / cell + y / cell) & 1) ? 220 : 30;
+  return m;
+}
+
+cv::Mat ConcentricCircles(int count) {
+  cv::Mat m(kH, kW, CV_8UC1, cv::Scalar(60));
+  for (int i = 0; i < count; ++i)
+    cv::circle(m, cv::Point(kW / 2, kH / 2), 4 + 5 * i, cv::Scalar(i % 2 ? 230 : 10), 2, cv::LINE_AA);
+  return m;
+}
+
+cv::Mat RandomSegments(int count) {
+  cv::Mat m(kH, kW, CV_8UC1, cv::Scalar(100));
+  std::mt19937 rng(99);
+  std::uniform_int_distribution<int> x(0, kW - 1), y(0, kH - 1), g(0, 255), t(1, 3);
+  for (int i = 0; i < count; ++i)
+    cv::line(m, cv::Point(x(rng), y(rng)), cv::Point(x(rng), y(rng)), cv::Scalar(g(rng)), t(rng), cv::LINE_AA);
+  return m;
+}
+
+std::string CapNames(unsigned caps) {
+  std::string s;
+  const std::pair<unsigned, const char*> names[] = {{kCapArcs, "arcs"}, {kCapPairs, "pairs"},
+                                                    {kCapTriplets, "triplets"}, {kCapCandidates, "candidates"},
+                                                    {kCapMeanShift, "mean_shift"}};
+  for (const auto& [bit, name] : names)
+    if (caps & bit) s += (s.empty() ? "" : "+") + std::string(name);
+  return s.empty() ? "none" : s;
+}
+
+// Median detect() time of generated 1920x1080 scenes, per backend, measured once.
+double SceneMedianMs(Detector* det) {
+  std::vector<double> ms;
+  DetectionResult r;
+  for (std::uint64_t seed = 1; seed <= 7; ++seed) {
+    scenes::SceneOptions so;
+    so.width = kW;
+    so.height = kH;
+    const scenes::Scene s = scenes::RenderScene(seed, so);
+    EXPECT_FALSE(s.gray.empty());
+    if (seed == 1) TimeDetect(det, s.gray, 1, &r);  // first frame of this size allocates
+    ms.push_back(TimeDetect(det, s.gray, 1, &r));
+  }
+  return Median(ms);
+}
+
+struct Case {
+  const char* name;
+  cv::Mat (*make)();
+};
+
+const Case kCases[] = {
+    {"noise", [] { return Noise(); }},
+    {"checkerboard_4px", [] { return Checkerboard(4); }},
+    {"checkerboard_1px", [] { return Checkerboard(1); }},
+    {"concentric_200", [] { return ConcentricCircles(200); }},
+    {"segments_2000", [] { return RandomSegments(2000); }},
+};
+
+class WorstCase : public ::testing::TestWithParam<Backend> {};
+
+TEST_P(WorstCase, WithinTenTimesASceneAndCapsReported) {
+  Options o;
+  o.backend = GetParam();
+  Detector det(o);
+  if (det.status().code() == StatusCode::kUnavailable) GTEST_SKIP() << det.status().message();
+  ASSERT_TRUE(det.status().ok()) << det.status().message();
+  const double scene_ms = SceneMedianMs(&det);
+  std::printf("[worst case] backend %s: scene median %.1f ms\n", BackendName(GetParam()), scene_ms);
+  for (const Case& c : kCases) {
+    const cv::Mat img = c.make();
+    DetectionResult r;
+    const double ms = TimeDetect(&det, img, 3, &r);
+    const double ratio = ms / scene_ms;
+    std::printf("[worst case] %-18s %8.1f ms  ratio %5.2f  caps_hit %-28s arcs %d candidates %d ellipses %zu\n",
+                c.name, ms, ratio, CapNames(r.caps_hit).c_str(), r.num_arcs, r.num_candidates, r.ellipses.size());
+    RecordProperty(std::string(c.name) + "_ratio", std::to_string(ratio));
+    EXPECT_LT(ratio, kMaxRatio) << c.name << ": " << ms << " ms vs scene median " << scene_ms << " ms";
+    // The counts never exceed the caps, and reaching a cap is reported.
+    EXPECT_LE(r.num_arcs, o.max_arcs) << c.name;
+    EXPECT_LE(r.num_candidates, o.max_candidates) << c.name;
+    if (r.num_candidates >= o.max_candidates) EXPECT_TRUE(r.caps_hit & kCapCandidates) << c.name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, WorstCase, ::testing::Values(Backend::kScalar, Backend::kAuto),
+                         [](const auto& info) { return std::string(BackendName(info.param)); });
+
+// Each cap, set low on a frame with many arcs and candidates, is reported by its own flag and bounds its count.
+TEST(WorstCaseCaps, EachLowCapIsReported) {
+  // A busy generated scene: many arcs and several candidates (the concentric-circle frame hits the
+  // triplet cap before it produces any candidate, so it cannot exercise the candidate cap).
+  scenes::SceneOptions so;
+  so.min_objects = so.max_objects = 5;
+  so.clutter_shapes = 12;
+  const cv::Mat img = scenes::RenderScene(21, so).gray;
+  struct CapCase {
+    const char* name;
+    unsigned flag;
+    void (*set)(Options*);
+  };
+  const CapCase cases[] = {
+      {"max_arcs", kCapArcs, [](Options* o) { o->max_arcs = 8; }},
+      {"max_pairs", kCapPairs, [](Options* o) { o->max_pairs = 4; }},
+      {"max_triplets", kCapTriplets, [](Options* o) { o->max_triplets = 2; }},
+      {"max_candidates", kCapCandidates, [](Options* o) { o->max_candidates = 1; }},
+  };
+  Detector reference;
+  DetectionResult full;
+  ASSERT_TRUE(reference.detect(ViewOf(img), &full).ok());
+  std::printf("[caps] uncapped: arcs %d candidates %d ellipses %zu caps_hit %s\n", full.num_arcs,
+              full.num_candidates, full.ellipses.size(), CapNames(full.caps_hit).c_str());
+  ASSERT_GT(full.num_arcs, 8);
+  ASSERT_GT(full.num_candidates, 1);
+  for (const CapCase& c : cases) {
+    Options o;
+    c.set(&o);
+    Detector det(o);
+    DetectionResult r;
+    ASSERT_TRUE(det.detect(ViewOf(img), &r).ok()) << c.name;
+    std::printf("[caps] %-15s caps_hit %-30s arcs %d candidates %d ellipses %zu\n", c.name,
+                CapNames(r.caps_hit).c_str(), r.num_arcs, r.num_candidates, r.ellipses.size());
+    EXPECT_TRUE(r.caps_hit & c.flag) << c.name << ": caps_hit " << CapNames(r.caps_hit);
+    EXPECT_LE(r.num_arcs, o.max_arcs) << c.name;
+    EXPECT_LE(r.num_candidates, o.max_candidates) << c.name;
+  }
+  // The uncapped frame of a plain scene reports no cap.
+  const scenes::Scene s = scenes::RenderScene(3);
+  DetectionResult plain;
+  ASSERT_TRUE(reference.detect(ViewOf(s.gray), &plain).ok());
+  EXPECT_EQ(plain.caps_hit, 0u) << CapNames(plain.caps_hit);
+}
+
+}  // namespace
+}  // namespace ellipsekit
