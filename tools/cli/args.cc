@@ -70,9 +70,17 @@ Backend ParseBackendValue(const std::string& flag, const std::string& text) {
   return backend;
 }
 
-void ApplyOptionValue(const std::string& flag, const std::string& text, Options* options) {
-  const Status st = SetOption(text, options);
-  if (!st.ok()) throw UsageError(flag + ": " + st.message());
+bool ApplyDetectorFlag(const std::string& name, ArgReader* reader, Options* options) {
+  if (name == "--backend") {
+    options->backend = ParseBackendValue(name, reader->Value());
+    return true;
+  }
+  if (name == "--option") {
+    const Status st = SetOption(reader->Value(), options);
+    if (!st.ok()) throw UsageError(name + ": " + st.message());
+    return true;
+  }
+  return false;
 }
 
 }  // namespace ellipsekit::cli

@@ -53,7 +53,8 @@ class ArgReader {
 int ParseIntValue(const std::string& flag, const std::string& text, int min_value, int max_value);
 std::uint64_t ParseUint64Value(const std::string& flag, const std::string& text);
 Backend ParseBackendValue(const std::string& flag, const std::string& text);
-// --option NAME=VALUE: sets one detector option (ellipsekit::SetOption); throws UsageError.
-void ApplyOptionValue(const std::string& flag, const std::string& text, Options* options);
+// The detector flags shared by every command that detects: --backend B and --option NAME=VALUE
+// (one ellipsekit::SetOption). Returns false when `name` is neither; throws UsageError on a bad value.
+bool ApplyDetectorFlag(const std::string& name, ArgReader* reader, Options* options);
 
 }  // namespace ellipsekit::cli

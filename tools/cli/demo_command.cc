@@ -64,10 +64,8 @@ int RunDemo(const std::vector<std::string>& argv) {
     } else if (name == "--out") {
       out = r.Value();
       if (out.empty()) throw UsageError("--out needs a directory");
-    } else if (name == "--backend") {
-      options.backend = ParseBackendValue(name, r.Value());
-    } else if (name == "--option") {
-      ApplyOptionValue(name, r.Value(), &options);
+    } else if (ApplyDetectorFlag(name, &r, &options)) {
+      // --backend, --option
     } else {
       throw UsageError("unknown option '" + name + "'");
     }

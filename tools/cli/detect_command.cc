@@ -104,10 +104,8 @@ DetectArgs ParseDetectArgs(const std::vector<std::string>& argv, bool* help) {
     if (name == "--help" || name == "-h") {
       *help = true;
       return a;
-    } else if (name == "--backend") {
-      a.options.backend = ParseBackendValue(name, r.Value());
-    } else if (name == "--option") {
-      ApplyOptionValue(name, r.Value(), &a.options);
+    } else if (ApplyDetectorFlag(name, &r, &a.options)) {
+      // --backend, --option
     } else if (name == "--repeat") {
       a.repeat = ParseIntValue(name, r.Value(), 1, 1000000);
     } else if (name == "--warmup") {

@@ -67,10 +67,8 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
     if (name == "--help" || name == "-h") {
       *help = true;
       return a;
-    } else if (name == "--backend") {
-      a.options.backend = ParseBackendValue(name, r.Value());
-    } else if (name == "--option") {
-      ApplyOptionValue(name, r.Value(), &a.options);
+    } else if (ApplyDetectorFlag(name, &r, &a.options)) {
+      // --backend, --option
     } else if (name == "--per-image") {
       r.NoValue();
       a.per_image = true;
