@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev libeigen3-dev libhwy-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools spirv-tools
   libgtest-dev libbenchmark-dev python3
+  clang libclang-rt-14-dev  # scripts/fuzz.sh (libFuzzer)
 )
 
 # One dpkg-query for all packages; db:Status-Status is "installed" only for a fully installed package

@@ -2,22 +2,43 @@
 # Builds ellipsekit and runs the whole test suite with ctest.
 #   scripts/test.sh              Release build in build/
 #   scripts/test.sh --sanitize   RelWithDebInfo + AddressSanitizer/UBSan in build-asan/
+#   scripts/test.sh --tsan       RelWithDebInfo + ThreadSanitizer in build-tsan/, concurrency test only
 # The output ends with ctest's summary; the exit status is ctest's.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 sanitize=0
+tsan=0
 for arg in "$@"; do
   case "$arg" in
     --sanitize) sanitize=1 ;;
+    --tsan) tsan=1 ;;
     -h|--help)
-      sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'
+      sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'
       exit 0 ;;
-    *) echo "test.sh: unknown argument: $arg (accepted: --sanitize)" >&2; exit 2 ;;
+    *) echo "test.sh: unknown argument: $arg (accepted: --sanitize, --tsan)" >&2; exit 2 ;;
   esac
 done
 
 scripts/setup.sh
+
+if [[ $tsan -eq 1 ]]; then
+  if [[ $sanitize -eq 1 ]]; then
+    echo "test.sh: --sanitize and --tsan cannot be combined" >&2
+    exit 2
+  fi
+  build_dir=build-tsan
+  tsan_flags="-fsanitize=thread -fno-omit-frame-pointer"
+  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DELLIPSEKIT_BUILD_BENCH=OFF \
+    -DCMAKE_CXX_FLAGS="$tsan_flags" \
+    -DCMAKE_EXE_LINKER_FLAGS="$tsan_flags" \
+    -DCMAKE_SHARED_LINKER_FLAGS="$tsan_flags" \
+    -DCMAKE_MODULE_LINKER_FLAGS="$tsan_flags" >/dev/null
+  cmake --build "$build_dir" -j2 --target test_concurrency
+  # Any data race fails the test that triggered it.
+  export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}"
+  exec ctest --test-dir "$build_dir" --output-on-failure -j1 --no-label-summary -R '^Backends/Concurrency\.'
+fi
 
 if [[ $sanitize -eq 1 ]]; then
   build_dir=build-asan

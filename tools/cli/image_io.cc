@@ -4,6 +4,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
 #include <system_error>
 
 #include <opencv2/imgcodecs.hpp>
@@ -11,6 +14,71 @@
 
 namespace ellipsekit::cli {
 namespace fs = std::filesystem;
+
+namespace {
+
+void AddNote(LoadedImage* out, const std::string& note) {
+  if (!out->note.empty()) out->note += "; ";
+  out->note += note;
+}
+
+// Decodes `bytes` with cv::imdecode while fd 2 is redirected to a temporary file: libpng,
+// libjpeg and OpenCV's own logger print straight to stderr, and the CLI's contract is one line
+// per problem. What they printed is returned in `chatter` (trimmed lines, "; "-joined).
+cv::Mat DecodeQuietly(const std::vector<unsigned char>& bytes, std::string* chatter) {
+  std::fflush(stderr);
+  std::FILE* sink = std::tmpfile();
+  const int saved = sink != nullptr ? ::dup(2) : -1;
+  if (saved >= 0) ::dup2(::fileno(sink), 2);
+  cv::Mat raw;
+  try {
+    raw = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    raw.release();
+    chatter->append(e.what());
+  }
+  if (saved >= 0) {
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+    std::rewind(sink);
+    char line[512];
+    while (std::fgets(line, sizeof line, sink) != nullptr) {
+      std::string text(line);
+      while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+      if (text.empty()) continue;
+      if (!chatter->empty()) chatter->append("; ");
+      chatter->append(text);
+    }
+  }
+  if (sink != nullptr) std::fclose(sink);
+  return raw;
+}
+
+// libjpeg reports damaged or cut-off scan data as warnings and still returns an image (the
+// missing part filled in); such an image must not be detected on as if it were the real frame.
+bool IsDamageWarning(const std::string& chatter) {
+  return chatter.find("Corrupt JPEG data") != std::string::npos ||
+         chatter.find("Premature end") != std::string::npos ||
+         chatter.find("libpng error") != std::string::npos;
+}
+
+// A JPEG whose last scan (the bytes after its last SOS marker, FF DA) has no end-of-image marker
+// (FF D9) was cut off. libjpeg decodes such a file without a word and pads the missing rows, so
+// the check is made here. (Inside scan data a 0xFF byte is always followed by 0x00 or a restart
+// marker, so FF D9 there is the real end.)
+bool IsTruncatedJpeg(const std::vector<unsigned char>& b) {
+  if (b.size() < 4 || b[0] != 0xFF || b[1] != 0xD8) return false;  // not a JPEG
+  std::size_t last_sos = 0;
+  for (std::size_t i = 0; i + 1 < b.size(); ++i)
+    if (b[i] == 0xFF && b[i + 1] == 0xDA) last_sos = i;
+  if (last_sos == 0) return false;  // no scan at all: the decoder refuses it
+  for (std::size_t i = last_sos + 2; i + 1 < b.size(); ++i)
+    if (b[i] == 0xFF && b[i + 1] == 0xD9) return false;
+  return true;
+}
+
+}  // namespace
 
 bool LoadImage(const std::string& path, LoadedImage* out, std::string* error) {
   *out = LoadedImage();
@@ -28,17 +96,32 @@ bool LoadImage(const std::string& path, LoadedImage* out, std::string* error) {
     *error = "cannot read (permission denied)";
     return false;
   }
-  cv::Mat raw;
-  try {
-    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    *error = std::string("cannot decode: ") + e.what();
+  std::ifstream file(path, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (file.bad()) {
+    *error = "cannot read (I/O error)";
     return false;
   }
+  if (bytes.empty()) {
+    *error = "empty file (0 bytes)";
+    return false;
+  }
+  std::string chatter;
+  const cv::Mat raw = DecodeQuietly(bytes, &chatter);
   if (raw.empty()) {
     *error = "not a readable image (OpenCV could not decode it)";
+    if (!chatter.empty()) *error += ": " + chatter;
     return false;
   }
+  if (IsTruncatedJpeg(bytes)) {
+    *error = "truncated JPEG (no end-of-image marker after the last scan)";
+    return false;
+  }
+  if (IsDamageWarning(chatter)) {
+    *error = "corrupt or truncated image: " + chatter;
+    return false;
+  }
+  if (!chatter.empty()) out->note = "decoder: " + chatter;
 
   cv::Mat depth8;
   switch (raw.depth()) {
@@ -47,7 +130,7 @@ bool LoadImage(const std::string& path, LoadedImage* out, std::string* error) {
       break;
     case CV_16U:
       raw.convertTo(depth8, CV_8U, 1.0 / 257.0);
-      out->note = "16-bit image scaled to 8-bit (value / 257)";
+      AddNote(out, "16-bit image scaled to 8-bit (value / 257)");
       break;
     default:
       *error = "unsupported pixel depth (only 8- and 16-bit unsigned images)";
@@ -61,10 +144,12 @@ bool LoadImage(const std::string& path, LoadedImage* out, std::string* error) {
     case 3:
       out->color = depth8;
       cv::cvtColor(depth8, out->gray, cv::COLOR_BGR2GRAY);
+      AddNote(out, "colour image converted to gray (0.299 R + 0.587 G + 0.114 B)");
       break;
     case 4:
       cv::cvtColor(depth8, out->color, cv::COLOR_BGRA2BGR);
       cv::cvtColor(depth8, out->gray, cv::COLOR_BGRA2GRAY);
+      AddNote(out, "colour image converted to gray (0.299 R + 0.587 G + 0.114 B), alpha dropped");
       break;
     default:
       *error = "unsupported number of channels (" + std::to_string(depth8.channels()) + ")";

@@ -16,7 +16,9 @@ struct LoadedImage {
 };
 
 // Loads any png / jpg / bmp / ... OpenCV reads. Colour is converted to gray (BGR weights of
-// cv::cvtColor), alpha is dropped, 16-bit is scaled to 8-bit (value / 257) with a note.
+// cv::cvtColor), alpha is dropped, 16-bit is scaled to 8-bit (value / 257); each conversion
+// is told in `note`. Damaged files (decoder warnings about corrupt or truncated data) are errors,
+// not images: the decoder would fill the missing part in.
 // On failure returns false and sets `error` to the problem ("no such file", "not a readable
 // image", ...), without the path.
 bool LoadImage(const std::string& path, LoadedImage* out, std::string* error);

@@ -1,0 +1,47 @@
+// Replays fuzz inputs through the same entry as the libFuzzer target, without libFuzzer:
+//   fuzz_detect_replay PATH...   (a PATH that is a folder: every regular file in it, sorted)
+// Exit status 0 when every input ran, 1 when none was found or a file could not be read; a broken
+// invariant aborts.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "fuzz/fuzz_detect.h"
+
+namespace fs = std::filesystem;
+
+int main(int argc, char** argv) {
+  std::vector<fs::path> files;
+  for (int i = 1; i < argc; ++i) {
+    std::error_code ec;
+    if (fs::is_directory(argv[i], ec)) {
+      for (const fs::directory_entry& e : fs::directory_iterator(argv[i], ec))
+        if (e.is_regular_file()) files.push_back(e.path());
+    } else {
+      files.emplace_back(argv[i]);
+    }
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) {
+    std::fprintf(stderr, "fuzz_detect_replay: no input files\n");
+    return 1;
+  }
+  int failed = 0;
+  for (const fs::path& p : files) {
+    std::ifstream f(p, std::ios::binary);
+    if (!f) {
+      std::fprintf(stderr, "fuzz_detect_replay: %s: cannot read\n", p.string().c_str());
+      ++failed;
+      continue;
+    }
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    std::fprintf(stderr, "fuzz_detect_replay: %s (%zu bytes)\n", p.string().c_str(), bytes.size());
+    ellipsekit::fuzz::DetectOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+  }
+  std::printf("fuzz_detect_replay: %zu inputs, %d unreadable\n", files.size(), failed);
+  return failed ? 1 : 0;
+}
