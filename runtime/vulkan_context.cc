@@ -29,6 +29,18 @@ int TypeRank(VkPhysicalDeviceType t) {
   }
 }
 
+// Keeps the driver that serves `device_function` (a pointer vkGetDeviceProcAddr returned, so it
+// lies in the driver or in a layer) loaded for the rest of the process. The loader otherwise
+// unloads the driver with the last instance, and loads it again with the next: for lavapipe that
+// means re-initialising LLVM for every Detector. It also keeps the driver's static allocations
+// reachable, so LeakSanitizer does not report them as leaks from an unknown (unloaded) module.
+void PinDriver(void* device_function) {
+  Dl_info info{};
+  if (device_function == nullptr || dladdr(device_function, &info) == 0 || info.dli_fname == nullptr) return;
+  // RTLD_NOLOAD: only takes a reference to the already loaded module; RTLD_NODELETE: never unload it.
+  dlopen(info.dli_fname, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+}
+
 }  // namespace
 
 const char* VkResultName(VkResult r) {
@@ -169,6 +181,7 @@ Status VulkanContext::Init() {
   if (vk_.name == nullptr) return Unavailable("the device has no " #name);
   ELLIPSEKIT_VK_DEVICE_FUNCTIONS(ELLIPSEKIT_VK_LOAD_DEVICE)
 #undef ELLIPSEKIT_VK_LOAD_DEVICE
+  PinDriver(reinterpret_cast<void*>(vk_.vkCmdDispatch));
   vk_.vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 
   VkPipelineCacheCreateInfo pcci{};
