@@ -8,7 +8,7 @@
 //   corrupt.jpg         a valid JPEG with its entropy-coded data overwritten by garbage
 //   gray16.png          16-bit gray (must be converted, with a note)
 //   colour.png          8-bit BGR (must be converted, with a note)
-//   one_pixel.png       1x1
+//   one_pixel.png       1x1 (too small: refused)
 //   wide_65536.png      65536x1 (larger than the detector's 16384 px side limit)
 //   a_directory.png/    a directory
 #include <cstdio>

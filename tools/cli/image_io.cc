@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "kernels/arc_types.h"  // kMaxImageDimension
 
 namespace ellipsekit::cli {
 namespace fs = std::filesystem;
@@ -154,6 +157,16 @@ bool LoadImage(const std::string& path, LoadedImage* out, std::string* error) {
     default:
       *error = "unsupported number of channels (" + std::to_string(depth8.channels()) + ")";
       return false;
+  }
+  // Sobel's 3x3 window needs an interior pixel: a frame with a side under 3 px has only border
+  // gradients, so no edge and no ellipse can come out of it. The library accepts such frames (and
+  // finds nothing); the CLI tells the user instead of printing an empty result. A frame over the
+  // side limit (65536x1, say) is left to detect(), whose error names that limit.
+  const bool within_limit = std::max(out->gray.cols, out->gray.rows) <= kMaxImageDimension;
+  if (within_limit && (out->gray.cols < 3 || out->gray.rows < 3)) {
+    *error = "image is " + std::to_string(out->gray.cols) + "x" + std::to_string(out->gray.rows) +
+             ": too small to hold an ellipse (both sides must be at least 3 px)";
+    return false;
   }
   if (!out->gray.isContinuous()) out->gray = out->gray.clone();
   return true;
