@@ -61,7 +61,11 @@ struct Options {
   int min_curve_points = 15;        // T_n: curves/arcs with fewer points are dropped
   ObbRule obb_rule = ObbRule::kMinSide;
   double obb_threshold = 2.0;       // T_O (see ObbRule)
-  double polyline_tolerance = 1.0;  // max deviation of a curve from its polyline, px (ref. [34])
+  // Max deviation of a curve from its polyline, px (ref. [34]; the paper gives no value). Measured:
+  // 1.5 beats 1.0 on generated scenes (F 0.696 -> 0.764, and 0.710 -> 0.759 on a held-out seed) and
+  // on the shared datasets (99 -> 124 of 182 found): fewer, longer segments make the turn angles
+  // of Algorithm I less noisy, so fewer arcs are split at false turning points.
+  double polyline_tolerance = 1.5;
   double split_angle_deg = 35.0;    // T_theta: split where |theta_{i+1} - theta_i| > this, (0, 60]
 
   // ---- grouping and centre (sec. II-B-3, II-C-1)
