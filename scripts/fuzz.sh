@@ -31,8 +31,7 @@ cmake --build "$build_dir" -j2 --target fuzz_detect
 mkdir -p "$build_dir/corpus" "$build_dir/artifacts"
 # Leak checking is off by default: it would make every input pay for a leak scan, and the ctest
 # suite under `scripts/test.sh --sanitize` checks leaks (Vulkan included). FUZZ_LEAKS=1 turns it on
-# for the CPU backends (Vulkan is then left out of the inputs: the driver's lazily built caches
-# outlive a single input).
+# for the CPU backends only (Vulkan is then left out of the inputs).
 if [[ "${FUZZ_LEAKS:-0}" == 1 ]]; then
   export ELLIPSEKIT_FUZZ_NO_VULKAN=1
   export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
