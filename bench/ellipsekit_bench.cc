@@ -5,7 +5,12 @@
 // Names (scripts/bench.sh parses them):
 //   kernel/<kernel>/<backend>/<W>x<H>     kernel: a row of kernels/kernels.inc (stage Edges);
 //                                         backend: scalar | simd:<HIGHWAY TARGET>
+//   kernel/<kernel>/<backend>/<input>     kernel: a row of kernels/kernels.inc (stage Arcs);
+//                                         input: scene (generated scene 0) | prasad (first image);
+//                                         items/s = curve points/s
 //   edge_stage/<backend>/<W>x<H>          gray in -> sign-classified edge map out; scalar | simd | vulkan
+//   arc_stage/<backend>/<input>           curves in -> polylines, splits, arc stats out (the three
+//                                         Arcs kernels chained); scalar | vulkan (warm, transfers in)
 //   opencv/<sobel|canny|blur_canny>/<W>x<H>
 //   detect/<backend>/<prasad|scenes>/<image>   Detector::detect on the image at its own size
 //   opencv_canny_image/<prasad|scenes>/<image> cv::Canny on the same image
@@ -35,6 +40,10 @@
 #include "kernels/hysteresis.h"
 #include "kernels/nms.h"
 #include "kernels/sobel.h"
+#include "fit/curve_tracing.h"
+#include "kernels/arc_split.h"
+#include "kernels/arc_stats.h"
+#include "kernels/polyline.h"
 #include "runtime/backend.h"
 #ifdef ELLIPSEKIT_HAVE_SIMD
 #include <hwy/detect_targets.h>
@@ -42,6 +51,7 @@
 #include "cpu/simd_kernels.h"
 #endif
 #ifdef ELLIPSEKIT_HAVE_VULKAN
+#include "runtime/vulkan_arc_stage.h"
 #include "runtime/vulkan_edge_stage.h"
 #endif
 #ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
@@ -238,6 +248,134 @@ void BM_KernelSimdTarget(benchmark::State& st, std::string kernel, std::int64_t 
 #endif
 }
 
+// ---- arc-stage kernels: the curves of one frame as the detector traces them (scalar edge stage,
+// TraceCurves with T_n; the detector's OBB filter, which needs Eigen, is left out, so a few more
+// curves go in), and the scalar reference's polylines and splits as the inputs
+// of arc_split and arc_stats. Items are curve points.
+struct ArcInputs {
+  ek::Curves curves;
+  ek::Polylines polylines;
+  ek::Splits splits;
+  std::vector<ek::ArcStats> stats;
+  std::int64_t points = 0;
+};
+
+ArcInputs MakeArcInputs(const cv::Mat& frame) {
+  Prepared p;
+  PrepareFrom(frame, &p);
+  const ek::Options o;
+  ArcInputs a;
+  ek::TraceScratch trace;
+  ek::TraceCurves(p.edges.data(), p.w, p.dx.data(), p.dy.data(), p.w, p.w, p.h, o.min_curve_points, &a.curves,
+                  &trace);
+  std::vector<std::int32_t> stack;
+  ek::scalar::Polyline(a.curves, ek::PolylineToleranceQ16(o.polyline_tolerance), &a.polylines, &stack);
+  ek::scalar::ArcSplit(a.curves, a.polylines, ek::SplitTanQ16(o.split_angle_deg), &a.splits);
+  ek::scalar::ArcStatsFromSplits(a.curves, a.splits, o.min_curve_points, &a.stats);
+  a.points = static_cast<std::int64_t>(a.curves.x.size());
+  return a;
+}
+
+// The frames: "prasad" (the first dataset image, BaseFrame) and "scene" (generated scene 0).
+const ArcInputs* ArcInputsFor(const std::string& input) {
+  static std::map<std::string, std::unique_ptr<ArcInputs>> cache;
+  auto& slot = cache[input];
+  if (!slot) {
+    cv::Mat frame;
+    if (input == "prasad") frame = BaseFrame();
+#ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
+    if (input == "scene") frame = ek::scenes::RenderScene(ek::scenes::MixSeed(7, 0)).gray;
+#endif
+    if (frame.empty()) return nullptr;
+    slot = std::make_unique<ArcInputs>(MakeArcInputs(frame));
+  }
+  return slot.get();
+}
+
+bool SameArcStats(const std::vector<ek::ArcStats>& a, const std::vector<ek::ArcStats>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const ek::ArcStats &x = a[i], &y = b[i];
+    if (x.curve != y.curve || x.begin != y.begin || x.end != y.end || x.x0 != y.x0 || x.y0 != y.y0 || x.x1 != y.x1 ||
+        x.y1 != y.y1 || x.xm != y.xm || x.ym != y.ym || x.min_x != y.min_x || x.min_y != y.min_y ||
+        x.max_x != y.max_x || x.max_y != y.max_y || x.g0x != y.g0x || x.g0y != y.g0y || x.g1x != y.g1x ||
+        x.g1y != y.g1y || x.quadrant != y.quadrant || x.sign_class != y.sign_class) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// One arc kernel on one frame's curves; outputs are checked against the scalar reference after
+// the timed loop. Output buffers are reused across iterations, as in the detector.
+void RunArcKernel(benchmark::State& st, const std::string& kernel, bool simd, const std::string& input) {
+  const ArcInputs* in = ArcInputsFor(input);
+  if (in == nullptr) { st.SkipWithError(("no frame for input " + input).c_str()); return; }
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  const ek::KernelTable& t = simd ? ek::SimdKernels() : ek::ScalarKernels();
+#else
+  if (simd) { st.SkipWithError("SIMD backend not built"); return; }
+  const ek::KernelTable& t = ek::ScalarKernels();
+#endif
+  const ek::Options o;
+  bool same = true;
+  if (kernel == "polyline") {
+    ek::Polylines out;
+    std::vector<std::int32_t> stack;
+    const std::int32_t tol = ek::PolylineToleranceQ16(o.polyline_tolerance);
+    for (auto _ : st) {
+      t.polyline(in->curves, tol, &out, &stack);
+      benchmark::DoNotOptimize(out.vertex.data());
+    }
+    same = out.vertex == in->polylines.vertex && out.offset == in->polylines.offset;
+  } else if (kernel == "arc_split") {
+    // The Highway version directly: the SIMD table keeps the (faster) reference for arc_split.
+    auto* arc_split = t.arc_split;
+#ifdef ELLIPSEKIT_HAVE_SIMD
+    if (simd) arc_split = ek::simd::ArcSplit;
+#endif
+    ek::Splits out;
+    const std::int64_t tan_q16 = ek::SplitTanQ16(o.split_angle_deg);
+    for (auto _ : st) {
+      arc_split(in->curves, in->polylines, tan_q16, &out);
+      benchmark::DoNotOptimize(out.index.data());
+    }
+    same = out.index == in->splits.index && out.offset == in->splits.offset;
+  } else if (kernel == "arc_stats") {
+    std::vector<ek::ArcStats> out;
+    for (auto _ : st) {
+      out.clear();
+      t.arc_stats(in->curves, in->splits, o.min_curve_points, &out);
+      benchmark::DoNotOptimize(out.data());
+    }
+    same = SameArcStats(out, in->stats);
+  } else {
+    st.SkipWithError(("unknown kernel " + kernel).c_str());
+    return;
+  }
+  if (!same) { st.SkipWithError("output differs from the scalar reference"); return; }
+  st.counters["points"] = static_cast<double>(in->points);
+  st.counters["curves"] = in->curves.size();
+  st.counters["vertices"] = static_cast<double>(in->polylines.vertex.size());
+  st.SetItemsProcessed(st.iterations() * in->points);
+}
+
+void BM_ArcKernelSimdTarget(benchmark::State& st, std::string kernel, std::int64_t target, std::string input) {
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  const auto avail = ek::simd::AvailableTargets();
+  if (std::find(avail.begin(), avail.end(), target) == avail.end()) {
+    st.SkipWithError(("Highway target " + ek::simd::TargetName(target) + " not supported by this CPU").c_str());
+    return;
+  }
+  ek::simd::ForceTarget(target);
+  RunArcKernel(st, kernel, true, input);
+  ek::simd::ForceTarget(0);
+#else
+  (void)kernel; (void)target; (void)input;
+  st.SkipWithError("SIMD backend not built");
+#endif
+}
+
 // ---- the whole edge stage, as runtime/detector.cc runs it on a CPU kernel table.
 void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   const int w = frame.cols, h = frame.rows;
@@ -310,6 +448,63 @@ void BM_EdgeStageVulkan(benchmark::State& st, Size s) {
   (void)s;
   st.SkipWithError("Vulkan backend not built");
 #endif
+}
+
+// ---- the whole arc stage on one frame's curves (ArcInputsFor): polyline -> arc_split -> arc_stats,
+// each fed the one before, as fit/arc_selection.cc runs them. scalar: the reference kernels;
+// vulkan: runtime/vulkan_arc_stage.h, warm (an untimed first Run sizes its buffers), upload and
+// download included. Outputs are checked against the scalar reference after the timed loop.
+void BM_ArcStage(benchmark::State& st, bool vulkan, const std::string& input) {
+  const ArcInputs* in = ArcInputsFor(input);
+  if (in == nullptr) { st.SkipWithError(("no frame for input " + input).c_str()); return; }
+  const ek::Options o;
+  const std::int32_t tol = ek::PolylineToleranceQ16(o.polyline_tolerance);
+  const std::int64_t tan_q16 = ek::SplitTanQ16(o.split_angle_deg);
+  ek::Polylines polylines;
+  ek::Splits splits;
+  std::vector<ek::ArcStats> stats;
+  if (!vulkan) {
+    std::vector<std::int32_t> stack;
+    for (auto _ : st) {
+      ek::scalar::Polyline(in->curves, tol, &polylines, &stack);
+      ek::scalar::ArcSplit(in->curves, polylines, tan_q16, &splits);
+      stats.clear();
+      ek::scalar::ArcStatsFromSplits(in->curves, splits, o.min_curve_points, &stats);
+      benchmark::DoNotOptimize(stats.data());
+    }
+  } else {
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+    static std::unique_ptr<ek::VulkanArcStage> stage;
+    static const ek::Status created = ek::VulkanArcStage::Create(&stage);
+    if (!created.ok()) { st.SkipWithError(created.message().c_str()); return; }
+    ek::Status rs = stage->Run(in->curves, tol, tan_q16, o.min_curve_points, &polylines, &splits, &stats);
+    if (!rs.ok()) { st.SkipWithError(("Vulkan arc stage failed: " + rs.message()).c_str()); return; }
+    double device_ms = 0, compact_ms = 0;
+    for (auto _ : st) {
+      stats.clear();
+      rs = stage->Run(in->curves, tol, tan_q16, o.min_curve_points, &polylines, &splits, &stats);
+      if (!rs.ok()) { st.SkipWithError(("Vulkan arc stage failed: " + rs.message()).c_str()); break; }
+      device_ms += stage->last_device_ms();
+      compact_ms += stage->last_compact_ms();
+    }
+    if (st.error_occurred()) return;
+    st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
+    st.counters["compact_ms"] = benchmark::Counter(compact_ms, benchmark::Counter::kAvgIterations);
+    st.counters["rounds"] = stage->last_rounds();
+    st.SetLabel(stage->device_name());
+#else
+    st.SkipWithError("Vulkan backend not built");
+    return;
+#endif
+  }
+  if (polylines.vertex != in->polylines.vertex || polylines.offset != in->polylines.offset ||
+      splits.index != in->splits.index || splits.offset != in->splits.offset || !SameArcStats(stats, in->stats)) {
+    st.SkipWithError("arc stage output differs from the scalar reference");
+    return;
+  }
+  st.counters["points"] = static_cast<double>(in->points);
+  st.counters["curves"] = in->curves.size();
+  st.SetItemsProcessed(st.iterations() * in->points);
 }
 
 // ---- OpenCV baselines (single thread). Canny uses the thresholds our rule picks for the frame, with
@@ -438,6 +633,40 @@ void Register() {
                                    [k, s](benchmark::State& st) { RunKernel(st, k, true, s); })->UseRealTime();
 #endif
     }
+  }
+
+  const char* arc_kernels[] = {
+#define ELLIPSEKIT_KERNEL(name, stage) ELLIPSEKIT_KERNEL_##stage(name)
+#define ELLIPSEKIT_KERNEL_Edges(name)
+#define ELLIPSEKIT_KERNEL_Arcs(name) #name,
+#include "kernels/kernels.inc"
+#undef ELLIPSEKIT_KERNEL_Edges
+#undef ELLIPSEKIT_KERNEL_Arcs
+  };
+  for (const char* k : arc_kernels) {
+    for (const char* input : {"scene", "prasad"}) {
+      const std::string in(input), tail = "/" + in;
+      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/scalar" + tail).c_str(),
+                                   [k, in](benchmark::State& st) { RunArcKernel(st, k, false, in); })->UseRealTime();
+#ifdef ELLIPSEKIT_HAVE_SIMD
+      for (std::int64_t t : targets) {
+        benchmark::RegisterBenchmark(
+            ("kernel/" + std::string(k) + "/simd:" + ek::simd::TargetName(t) + tail).c_str(),
+            [k, t, in](benchmark::State& st) { BM_ArcKernelSimdTarget(st, k, t, in); })->UseRealTime();
+      }
+#else
+      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/simd" + tail).c_str(),
+                                   [k, in](benchmark::State& st) { RunArcKernel(st, k, true, in); })->UseRealTime();
+#endif
+    }
+  }
+
+  for (const char* input : {"scene", "prasad"}) {
+    const std::string in(input);
+    benchmark::RegisterBenchmark(("arc_stage/scalar/" + in).c_str(),
+                                 [in](benchmark::State& st) { BM_ArcStage(st, false, in); })->UseRealTime();
+    benchmark::RegisterBenchmark(("arc_stage/vulkan/" + in).c_str(),
+                                 [in](benchmark::State& st) { BM_ArcStage(st, true, in); })->UseRealTime();
   }
 
   for (Size s : kSizes) {

@@ -57,6 +57,11 @@ void SelectArcs(const KernelTable& kernels, const Curves& curves, const Options&
   kernels.arc_split(curves, scratch->polylines, SplitTanQ16(options.split_angle_deg), &scratch->splits);
   scratch->stats.clear();
   kernels.arc_stats(curves, scratch->splits, options.min_curve_points, &scratch->stats);
+  SelectArcsFromStats(curves, options, scratch, arcs, capped);
+}
+
+void SelectArcsFromStats(const Curves& curves, const Options& options, ArcScratch* scratch,
+                         std::vector<Arc>* arcs, bool* capped) {
   arcs->clear();
   for (const ArcStats& s : scratch->stats) {
     if (s.quadrant == kQuadrantNone) continue;

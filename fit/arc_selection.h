@@ -36,4 +36,9 @@ struct ArcScratch {
 void SelectArcs(const KernelTable& kernels, const Curves& curves, const Options& options, ArcScratch* scratch,
                 std::vector<Arc>* arcs, bool* capped);
 
+// The part of SelectArcs after the kernels: scratch->stats (filled by the three arc-stage kernels on
+// any backend, e.g. runtime/vulkan_arc_stage.h) -> quadrant and OBB filters -> the max_arcs cap.
+void SelectArcsFromStats(const Curves& curves, const Options& options, ArcScratch* scratch,
+                         std::vector<Arc>* arcs, bool* capped);
+
 }  // namespace ellipsekit

@@ -43,8 +43,8 @@ std::string& SimdTargetProblem() {
 }
 }  // namespace
 
-// Highway kernels where they exist; hysteresis (a sequential flood fill) and the arc stage keep
-// the scalar references. ELLIPSEKIT_HWY_TARGET is read once, when the table is first resolved.
+// Highway kernels for every stage kernel but hysteresis (a sequential flood fill) and arc_split
+// (its Highway version is slower, see below), which keep the scalar references. ELLIPSEKIT_HWY_TARGET is read once, when the table is first resolved.
 const KernelTable& SimdKernels() {
   static const KernelTable table = [] {
     simd::ForceTargetFromEnv(&SimdTargetProblem());
@@ -55,6 +55,11 @@ const KernelTable& SimdKernels() {
     t.magnitude_histogram = simd::MagnitudeHistogram;
     t.nms = simd::Nms;
     t.edge_sign = simd::EdgeSign;
+    t.polyline = simd::Polyline;
+    // simd::ArcSplit is exact but measured slower than the reference on typical curves (see
+    // cpu/arc_split.cc), so the table keeps the faster exact one.
+    t.arc_split = scalar::ArcSplit;
+    t.arc_stats = simd::ArcStatsFromSplits;
     return t;
   }();
   return table;
@@ -86,8 +91,10 @@ Status ResolveKernels(Backend requested, const KernelTable** table, std::string*
 #endif
     case Backend::kVulkan:
 #ifdef ELLIPSEKIT_HAVE_VULKAN
-      // The Detector runs the edge stage on the device (runtime/vulkan_edge_stage.h); the arc
-      // stage stays on the best CPU table until it has shaders of its own.
+      // The Detector runs the edge stage (runtime/vulkan_edge_stage.h) and the arc stage
+      // (runtime/vulkan_arc_stage.h: polyline, arc_split, arc_stats) on the device. This table
+      // serves the arc stage only where the device cannot: no shaderInt64, or a frame whose curves
+      // exceed its storage-buffer range (identical results: the arc kernels are integer-exact).
 #ifdef ELLIPSEKIT_HAVE_SIMD
       *table = &SimdKernels();
 #else

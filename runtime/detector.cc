@@ -15,6 +15,7 @@
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
 #ifdef ELLIPSEKIT_HAVE_VULKAN
+#include "runtime/vulkan_arc_stage.h"
 #include "runtime/vulkan_edge_stage.h"
 #endif
 
@@ -104,6 +105,9 @@ struct Detector::Impl {
   const KernelTable* kernels = nullptr;
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   std::unique_ptr<VulkanEdgeStage> vulkan;  // set when the edge stage runs on a Vulkan device
+  // Set when the arc stage runs on the device too; null (device without shaderInt64) -> the CPU
+  // table runs it, with identical results (every arc-stage kernel is integer-exact).
+  std::unique_ptr<VulkanArcStage> vulkan_arcs;
 #endif
   int width = 0, height = 0;
   std::vector<std::uint8_t> blurred, nms, edge_map;
@@ -193,7 +197,23 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
 
   // Arcs (sec. II-B-1, II-B-2).
   bool arcs_capped = false;
-  SelectArcs(k, curves, options, &arc_scratch, &arcs, &arcs_capped);
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  Status device_arcs{StatusCode::kUnavailable, ""};
+  if (vulkan_arcs) {
+    arc_scratch.stats.clear();
+    device_arcs = vulkan_arcs->Run(curves, PolylineToleranceQ16(options.polyline_tolerance),
+                                   SplitTanQ16(options.split_angle_deg), options.min_curve_points,
+                                   &arc_scratch.polylines, &arc_scratch.splits, &arc_scratch.stats);
+    // kUnavailable: this frame exceeds the device's buffer range; the CPU table runs it instead.
+    if (!device_arcs.ok() && device_arcs.code() != StatusCode::kUnavailable) return device_arcs;
+  }
+  if (device_arcs.ok()) {
+    SelectArcsFromStats(curves, options, &arc_scratch, &arcs, &arcs_capped);
+  } else
+#endif
+  {
+    SelectArcs(k, curves, options, &arc_scratch, &arcs, &arcs_capped);
+  }
   const auto t3 = Clock::now();
 
   // Grouping, centres, parameters, validation by K and psi (sec. II-B-3 to II-D-2).
@@ -239,6 +259,9 @@ Detector::Detector(const Options& options) : impl_(std::make_unique<Impl>()) {
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   if (impl_->status.ok() && options.backend == Backend::kVulkan) {
     impl_->status = VulkanEdgeStage::Create(&impl_->vulkan);
+    // The arc stage follows it onto the device when the device has shaderInt64; otherwise (the
+    // reason is VulkanArcStage::Create's status) the arcs stay on the CPU table.
+    if (impl_->status.ok() && !VulkanArcStage::Create(&impl_->vulkan_arcs).ok()) impl_->vulkan_arcs.reset();
   }
 #endif
 }

@@ -174,6 +174,13 @@ Status VulkanContext::Init() {
   dci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
+  // shaderInt64 when offered (runtime/vulkan_arc_stage.h needs it; a device without it still runs
+  // the edge stage, and the arc stage reports kUnavailable).
+  VkPhysicalDeviceFeatures offered{}, enabled{};
+  vk_.vkGetPhysicalDeviceFeatures(physical_, &offered);
+  enabled.shaderInt64 = offered.shaderInt64;
+  shader_int64_ = offered.shaderInt64 == VK_TRUE;
+  dci.pEnabledFeatures = &enabled;
   r = vk_.vkCreateDevice(physical_, &dci, nullptr, &device_);
   if (r != VK_SUCCESS) return Unavailable("vkCreateDevice on '" + device_name_ + "' failed: " + VkResultName(r));
 #define ELLIPSEKIT_VK_LOAD_DEVICE(name)                                                 \

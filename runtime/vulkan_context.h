@@ -24,7 +24,7 @@ namespace ellipsekit {
 #define ELLIPSEKIT_VK_INSTANCE_FUNCTIONS(X)                                                         \
   X(vkDestroyInstance) X(vkEnumeratePhysicalDevices) X(vkGetPhysicalDeviceProperties)               \
   X(vkGetPhysicalDeviceQueueFamilyProperties) X(vkGetPhysicalDeviceMemoryProperties)                \
-  X(vkCreateDevice) X(vkGetDeviceProcAddr)
+  X(vkCreateDevice) X(vkGetDeviceProcAddr) X(vkGetPhysicalDeviceFeatures)
 #define ELLIPSEKIT_VK_DEVICE_FUNCTIONS(X)                                                           \
   X(vkDestroyDevice) X(vkGetDeviceQueue) X(vkCreateBuffer) X(vkDestroyBuffer)                       \
   X(vkGetBufferMemoryRequirements) X(vkAllocateMemory) X(vkFreeMemory) X(vkBindBufferMemory)        \
@@ -78,6 +78,9 @@ class VulkanContext {
   // Nanoseconds per timestamp tick; 0 when the compute queue has no timestamps.
   double timestamp_period_ns() const { return timestamp_period_ns_; }
   std::uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
+  // True when the device was created with the shaderInt64 feature (the arc-stage shaders need
+  // 64-bit integers; the edge stage does not). Enabled whenever the device offers it.
+  bool shader_int64() const { return shader_int64_; }
 
   // Storage buffer usable as copy source and destination. host_visible: mapped, host-coherent
   // when the device offers it (otherwise Flush/Invalidate below do the work).
@@ -103,6 +106,7 @@ class VulkanContext {
   std::string device_name_;
   double timestamp_period_ns_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
+  bool shader_int64_ = false;
 };
 
 // "VK_ERROR_OUT_OF_DEVICE_MEMORY" and so on, for messages.

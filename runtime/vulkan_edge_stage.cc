@@ -18,11 +18,12 @@ namespace ellipsekit {
 
 namespace {
 
-enum Binding : int { kImage, kBlurred, kDx, kDy, kMag, kHist, kThresholds, kMap, kFlags, kEdges };
+enum Binding : int { kImage, kBlurred, kDx, kDy, kHist, kThresholds, kMasks, kFlags, kEdges };
 
-constexpr std::uint32_t kGroup1D = 256;          // local_size_x of the 1-D shaders
-constexpr std::uint32_t kTile = 16;              // local size of the 2-D shaders
-constexpr std::uint32_t kHistPixelsPerGroup = 256 * 16;
+constexpr std::uint32_t kGroup = 64;               // local_size_x of gaussian, sobel, nms, edge_sign
+constexpr std::uint32_t kRowsPerInvocation = 8;    // kRows of gaussian.comp, sobel.comp, nms.comp
+constexpr std::uint32_t kHistVec4PerGroup = 256 * 8;  // canny_thresholds.comp MODE 0: 8 pixels each
+constexpr std::uint32_t kHysteresisGroup = 8;      // local_size_x of hysteresis.comp (one strip each)
 constexpr std::uint32_t kMaxGroups = 65535;      // guaranteed maxComputeWorkGroupCount per axis
 
 Status VkFail(const char* what, VkResult r) {
@@ -62,7 +63,7 @@ Status VulkanEdgeStage::Init() {
   VkResult r = vk.vkCreateDescriptorSetLayout(dev, &dslci, nullptr, &set_layout_);
   if (r != VK_SUCCESS) return VkFail("vkCreateDescriptorSetLayout", r);
 
-  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push_)};
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushWords * sizeof(std::uint32_t)};
   VkPipelineLayoutCreateInfo plci{};
   plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
   plci.setLayoutCount = 1;
@@ -75,10 +76,11 @@ Status VulkanEdgeStage::Init() {
   struct Source {
     const std::uint32_t* code;
     std::size_t bytes;
-    std::uint32_t mode;  // constant_id 0 (canny_thresholds.comp only)
+    std::uint32_t mode;  // constant_id 0: canny_thresholds.comp MODE, sobel.comp FROM_BLURRED
   };
   const Source sources[kNumPipelines] = {
-      {kGaussianSpv, sizeof(kGaussianSpv), 0},         {kSobelSpv, sizeof(kSobelSpv), 0},
+      {kGaussianSpv, sizeof(kGaussianSpv), 0},         {kSobelSpv, sizeof(kSobelSpv), 1},
+      {kSobelSpv, sizeof(kSobelSpv), 0},
       {kCannyThresholdsSpv, sizeof(kCannyThresholdsSpv), 0}, {kCannyThresholdsSpv, sizeof(kCannyThresholdsSpv), 1},
       {kNmsSpv, sizeof(kNmsSpv), 0},                   {kHysteresisSpv, sizeof(kHysteresisSpv), 0},
       {kEdgeSignSpv, sizeof(kEdgeSignSpv), 0}};
@@ -98,7 +100,7 @@ Status VulkanEdgeStage::Init() {
     cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     cpci.stage.module = module;
     cpci.stage.pName = "main";
-    cpci.stage.pSpecializationInfo = (sources[p].code == kCannyThresholdsSpv) ? &spec : nullptr;
+    cpci.stage.pSpecializationInfo = &spec;  // ignored by shaders without constant_id 0
     cpci.layout = pipeline_layout_;
     r = vk.vkCreateComputePipelines(dev, ctx_->pipeline_cache(), 1, &cpci, nullptr, &pipelines_[p]);
     vk.vkDestroyShaderModule(dev, module, nullptr);
@@ -157,8 +159,6 @@ Status VulkanEdgeStage::Init() {
 
 void VulkanEdgeStage::ReleaseFrameBuffers() {
   for (VulkanBuffer& b : buffers_) ctx_->DestroyBuffer(&b);
-  ctx_->DestroyBuffer(&upload_);
-  ctx_->DestroyBuffer(&download_);
   width_ = height_ = 0;
 }
 
@@ -182,24 +182,27 @@ Status VulkanEdgeStage::Resize(int width, int height) {
   if (width == width_ && height == height_) return Status::Ok();
   ctx_->vk().vkDeviceWaitIdle(ctx_->device());
   ReleaseFrameBuffers();
-  const VkDeviceSize n = static_cast<VkDeviceSize>(width) * height;
-  const VkDeviceSize packed8 = 4 * ((n + 3) / 4), packed16 = 4 * ((n + 1) / 2), words = 4 * n;
-  const VkDeviceSize sizes[kNumBindings] = {packed8, words, packed16, packed16, words,
-                                            4 * (kMaxMagnitude + 1), 16, words,
-                                            4 * (kRoundsPerSubmit + 1), packed8};
-  if (words > ctx_->properties().limits.maxStorageBufferRange)
-    return {StatusCode::kUnavailable, "frame of " + std::to_string(n) + " pixels exceeds the device's storage buffer range (" +
+  chunks_ = CeilDiv(static_cast<std::uint64_t>(width), 16);
+  padded_row_vec4_ = chunks_ + 2;
+  mask_words_ = CeilDiv(static_cast<std::uint64_t>(width), 32);
+  const VkDeviceSize frame = 16ull * padded_row_vec4_ * (static_cast<VkDeviceSize>(height) + 2);
+  // 16-bit planes (dx, dy): rows of whole mask words (32 pixels = 4 uvec4), so nms.comp reads
+  // a word's four uvec4 without bounds tests. The edge map: rows of whole 16-pixel chunks.
+  const VkDeviceSize packed16 = 64ull * mask_words_ * height, packed8 = 16ull * chunks_ * height;
+  const VkDeviceSize sizes[kNumBindings] = {frame, frame, packed16, packed16, 4 * (kMaxMagnitude + 1), 16,
+                                            8ull * mask_words_ * height, 4 * (kRoundsPerSubmit + 1), packed8};
+  const VkDeviceSize largest = std::max(frame, packed16);
+  if (largest > ctx_->properties().limits.maxStorageBufferRange)
+    return {StatusCode::kUnavailable, "frame of " + std::to_string(width) + "x" + std::to_string(height) +
+                                          " pixels exceeds the device's storage buffer range (" +
                                           std::to_string(ctx_->properties().limits.maxStorageBufferRange) + " bytes)"};
+  // The frame, dx, dy and the edge map live in host-visible memory that the shaders read and write
+  // directly: no staging copies (on lavapipe, and on unified-memory GPUs, it is the same memory).
   for (int b = 0; b < kNumBindings; ++b) {
-    Status st = ctx_->CreateBuffer(sizes[b], b == kFlags, &buffers_[b]);
+    const bool host_visible = b == kImage || b == kDx || b == kDy || b == kFlags || b == kEdges;
+    Status st = ctx_->CreateBuffer(sizes[b], host_visible, &buffers_[b]);
     if (!st.ok()) return st;
   }
-  Status st = ctx_->CreateBuffer(packed8, true, &upload_);
-  if (!st.ok()) return st;
-  dx_bytes_ = packed16;
-  edge_bytes_ = packed8;
-  st = ctx_->CreateBuffer(2 * dx_bytes_ + edge_bytes_, true, &download_);
-  if (!st.ok()) return st;
 
   VkDescriptorBufferInfo infos[kNumBindings];
   VkWriteDescriptorSet writes[kNumBindings];
@@ -224,11 +227,11 @@ void VulkanEdgeStage::Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t gx,
   const VulkanFunctions& vk = ctx_->vk();
   vk.vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[p]);
   vk.vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &set_, 0, nullptr);
-  vk.vkCmdPushConstants(cb, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push_), push);
+  vk.vkCmdPushConstants(cb, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushWords * sizeof(std::uint32_t), push);
   vk.vkCmdDispatch(cb, gx, gy, 1);
 }
 
-// Linear work spread over a 2-D grid: the shaders index word = gid.y * (groups.x * 256) + gid.x.
+// Linear work spread over a 2-D grid: the shaders index id = gid.y * (groups.x * local_size_x) + gid.x.
 void VulkanEdgeStage::Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t groups, const std::uint32_t* push) {
   const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(std::max<std::uint64_t>(groups, 1), kMaxGroups));
   Dispatch(cb, p, gx, CeilDiv(std::max<std::uint64_t>(groups, 1), gx), push);
@@ -243,8 +246,8 @@ void VulkanEdgeStage::Barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAc
   ctx_->vk().vkCmdPipelineBarrier(cb, src, dst, 0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
-// flags[0] = 1, flags[1..] = 0; kRoundsPerSubmit hysteresis rounds; edge_sign; downloads.
-void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb, bool download_gradients) {
+// flags[0] = 1, flags[1..] = 0; kRoundsPerSubmit hysteresis rounds; edge_sign; host visibility.
+void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb) {
   const VulkanFunctions& vk = ctx_->vk();
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -252,23 +255,16 @@ void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb, bool downloa
   vk.vkCmdFillBuffer(cb, buffers_[kFlags].buffer, 0, 4, 1u);
   vk.vkCmdFillBuffer(cb, buffers_[kFlags].buffer, 4, 4 * kRoundsPerSubmit, 0u);
   Barrier(cb, kTransfer | kCompute, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  std::uint32_t push[6] = {push_[0], push_[1], 0, 0, 0, 0};
+  std::uint32_t push[6] = {static_cast<std::uint32_t>(width_), static_cast<std::uint32_t>(height_), 0, mask_words_,
+                           chunks_, 4 * mask_words_};
   for (int round = 0; round < kRoundsPerSubmit; ++round) {
     push[2] = static_cast<std::uint32_t>(round);
-    Dispatch(cb, kHysteresis, CeilDiv(width_, kTile), CeilDiv(height_, kTile), push);
+    Dispatch(cb, kHysteresis, CeilDiv(mask_words_, kHysteresisGroup), 1, push);
     Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   }
-  const std::uint64_t n = static_cast<std::uint64_t>(width_) * height_;
-  Dispatch1D(cb, kEdgeSign, CeilDiv(CeilDiv(n, 4), kGroup1D), push_);
-  Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
-  VkBufferCopy copies[3] = {{0, 2 * dx_bytes_, edge_bytes_}, {0, 0, dx_bytes_}, {0, dx_bytes_, dx_bytes_}};
-  vk.vkCmdCopyBuffer(cb, buffers_[kEdges].buffer, download_.buffer, 1, &copies[0]);
-  if (download_gradients) {
-    vk.vkCmdCopyBuffer(cb, buffers_[kDx].buffer, download_.buffer, 1, &copies[1]);
-    vk.vkCmdCopyBuffer(cb, buffers_[kDy].buffer, download_.buffer, 1, &copies[2]);
-  }
-  Barrier(cb, kTransfer | kCompute, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  push[2] = 0;
+  Dispatch1D(cb, kEdgeSign, CeilDiv(static_cast<std::uint64_t>(chunks_) * height_, kGroup), push);
+  Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
 Status VulkanEdgeStage::Submit(VkCommandBuffer cb) {
@@ -297,17 +293,25 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   const int w = width_, h = height_;
   const std::uint64_t n = static_cast<std::uint64_t>(w) * h;
 
-  // Upload: rows packed to stride = width (the shaders read 4 pixels per word).
-  auto* up = static_cast<std::uint8_t*>(upload_.mapped);
-  for (int y = 0; y < h; ++y) std::memcpy(up + static_cast<std::size_t>(y) * w, image.data + y * image.stride, w);
-  std::memset(up + n, 0, upload_.size - n);
-  ctx_->FlushHostWrites(upload_);
+  // Upload into the padded frame of shaders/gaussian.comp: 16 pad bytes, the row, the rest of the
+  // row's chunks and 16 more pad bytes, all pads repeating the nearest pixel; rows -1 and h repeat
+  // rows 0 and h - 1. That is the replicate border, so the shaders need no border tests.
+  const std::size_t row_bytes = 16 * static_cast<std::size_t>(padded_row_vec4_);
+  auto* up = static_cast<std::uint8_t*>(buffers_[kImage].mapped);
+  for (int r = -1; r <= h; ++r) {
+    const std::uint8_t* src = image.data + std::clamp(r, 0, h - 1) * image.stride;
+    std::uint8_t* dst = up + static_cast<std::size_t>(r + 1) * row_bytes;
+    std::memset(dst, src[0], 16);
+    std::memcpy(dst + 16, src, static_cast<std::size_t>(w));
+    std::memset(dst + 16 + w, src[w - 1], row_bytes - 16 - static_cast<std::size_t>(w));
+  }
+  ctx_->FlushHostWrites(buffers_[kImage]);
 
   // 1000 * below >= high_permille * N  <=>  below >= ceil(high_permille * N / 1000).
   const std::uint64_t need = (static_cast<std::uint64_t>(std::max(options.canny_high_permille, 0)) * n + 999) / 1000;
-  push_[0] = static_cast<std::uint32_t>(w);
-  push_[1] = static_cast<std::uint32_t>(h);
-  push_[2] = push_[3] = push_[4] = push_[5] = 0;
+  const std::uint32_t uw = static_cast<std::uint32_t>(w), uh = static_cast<std::uint32_t>(h);
+  const std::uint64_t row_blocks = CeilDiv(static_cast<std::uint64_t>(h), kRowsPerInvocation);
+  const std::uint64_t chunk_groups = CeilDiv(static_cast<std::uint64_t>(chunks_) * row_blocks, kGroup);
 
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -324,7 +328,6 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   };
 
   VkCommandBufferBeginInfo begin{};
-
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   VkCommandBuffer cb = frame_cb_;
@@ -334,35 +337,35 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
     vk.vkCmdResetQueryPool(cb, query_pool_, 0, 2);
     vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool_, 0);
   }
-  // Upload and clear the histogram; the previous frame's reads are done (fence), so no WAR barrier.
-  VkBufferCopy up_copy{0, 0, upload_.size};
-  vk.vkCmdCopyBuffer(cb, upload_.buffer, buffers_[kImage].buffer, 1, &up_copy);
+  // The host wrote the frame before the submit (visible to it); the previous frame's work is done
+  // (fence), so clearing the histogram needs no barrier before it.
   vk.vkCmdFillBuffer(cb, buffers_[kHist].buffer, 0, VK_WHOLE_SIZE, 0u);
   Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
+  const std::uint32_t plane_row_vec4 = 4 * mask_words_;
+  const std::uint32_t frame_push[6] = {uw, uh, 0, padded_row_vec4_, chunks_, plane_row_vec4};
   if (options.gaussian_blur) {
-    Dispatch(cb, kGaussian, CeilDiv(w, kTile), CeilDiv(h, kTile), push_);
+    Dispatch1D(cb, kGaussian, chunk_groups, frame_push);
     Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   }
-  std::uint32_t push[6] = {push_[0], push_[1], options.gaussian_blur ? 1u : 0u, 0, 0, 0};
-  Dispatch1D(cb, kSobel, CeilDiv(CeilDiv(n, 2), kGroup1D), push);
+  Dispatch1D(cb, options.gaussian_blur ? kSobel : kSobelRaw, chunk_groups, frame_push);
   Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  Dispatch1D(cb, kHistogram, CeilDiv(n, kHistPixelsPerGroup), push_);
+  const std::uint32_t mask_push[6] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4};
+  Dispatch1D(cb, kHistogram, CeilDiv(static_cast<std::uint64_t>(plane_row_vec4) * h, kHistVec4PerGroup), mask_push);
   Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  const std::uint32_t select_push[6] = {push_[0], push_[1], static_cast<std::uint32_t>(need),
+  const std::uint32_t select_push[6] = {uw, uh, static_cast<std::uint32_t>(need),
                                         static_cast<std::uint32_t>(options.canny_low_permille),
                                         static_cast<std::uint32_t>(options.canny_min_high), 0};
   Dispatch(cb, kSelect, 1, 1, select_push);
   Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  Dispatch(cb, kNms, CeilDiv(w, kTile), CeilDiv(h, kTile), push_);
+  Dispatch1D(cb, kNms, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  RecordHysteresisAndOutput(cb, /*download_gradients=*/true);
+  RecordHysteresisAndOutput(cb);
   if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, 1);
   VkResult r = vk.vkEndCommandBuffer(cb);
   if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
   st = Submit(cb);
   if (!st.ok()) return st;
   if (timed) read_time();
-
   // More hysteresis rounds while the last one changed something (bounded by the contract).
   const auto* flags = static_cast<const volatile std::uint32_t*>(buffers_[kFlags].mapped);
   int rounds = kRoundsPerSubmit;
@@ -379,7 +382,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
       vk.vkCmdResetQueryPool(cb, query_pool_, 0, 2);
       vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool_, 0);
     }
-    RecordHysteresisAndOutput(cb, /*download_gradients=*/false);
+    RecordHysteresisAndOutput(cb);
     if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, 1);
     r = vk.vkEndCommandBuffer(cb);
     if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
@@ -391,11 +394,20 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   last_rounds_ = rounds;
   last_device_ms_ = timed ? device_ms : -1;
 
-  ctx_->InvalidateForHostReads(download_);
-  const auto* down = static_cast<const std::uint8_t*>(download_.mapped);
-  std::memcpy(dx, down, n * sizeof(std::int16_t));
-  std::memcpy(dy, down + dx_bytes_, n * sizeof(std::int16_t));
-  std::memcpy(edge_map, down + 2 * dx_bytes_, n);
+  // Device rows: dx / dy 32 * mask_words_ elements apart, the edge map 16 * chunks_ bytes; the
+  // caller's rows are `w` apart.
+  for (int b : {kDx, kDy, kEdges}) ctx_->InvalidateForHostReads(buffers_[b]);
+  const std::size_t stride = 16 * static_cast<std::size_t>(chunks_);
+  const std::size_t plane_stride = 32 * static_cast<std::size_t>(mask_words_);
+  const auto* gx = static_cast<const std::int16_t*>(buffers_[kDx].mapped);
+  const auto* gy = static_cast<const std::int16_t*>(buffers_[kDy].mapped);
+  const auto* edges = static_cast<const std::uint8_t*>(buffers_[kEdges].mapped);
+  const std::size_t uwz = static_cast<std::size_t>(w);
+  for (int y = 0; y < h; ++y) {
+    std::memcpy(dx + y * uwz, gx + y * plane_stride, uwz * sizeof(std::int16_t));
+    std::memcpy(dy + y * uwz, gy + y * plane_stride, uwz * sizeof(std::int16_t));
+    std::memcpy(edge_map + y * uwz, edges + y * stride, uwz);
+  }
   return Status::Ok();
 }
 

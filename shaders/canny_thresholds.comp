@@ -1,41 +1,61 @@
 // canny_thresholds: the gradient-magnitude histogram and the automatic thresholds
 // (kernels/canny_thresholds.h). Integer only. One SPIR-V module, two pipelines (spec constant MODE):
 //
-// MODE 0, histogram: hist[m] += #{pixels with mag == m}. Each workgroup counts kPixelsPerGroup
-//   pixels into a shared histogram and adds its non-zero bins to binding 5 with atomics, so the
-//   counts are exact whatever the order. Binding 5 must be zeroed before (vkCmdFillBuffer).
+// MODE 0, histogram: hist[m] += #{pixels with mag == m}, over the in-row pixels of sobel.comp's
+//   packed int16 dx, dy (rows of pc.d uvec4; mag = |dx| + |dy|). Each workgroup counts 256 * 64
+//   pixels into a shared histogram and adds its non-zero bins to binding 4 with atomics, so the
+//   counts are exact whatever the order. Binding 4 must be zeroed before (vkCmdFillBuffer).
 // MODE 1, select (one workgroup): the scalar rule
 //     high = max(min_high, smallest h with 1000 * #{mag <= h} >= high_permille * N),
 //     low  = high * low_permille / 1000,
 //   with the 64-bit product moved to the host: pc.a = need = ceil(high_permille * N / 1000), and
 //   1000 * below >= high_permille * N  <=>  below >= need  for integer below. No h qualifies -> 2040,
-//   as in the scalar walk. Writes params[0] = low, params[1] = high (binding 6) for nms.comp.
+//   as in the scalar walk. Writes params[0] = low, params[1] = high (binding 5) for nms.comp.
 #version 450
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0u;
 
 const uint kBins = 2041u;            // kMaxMagnitude + 1
-const uint kPixelsPerThread = 16u;   // a workgroup counts 256 * 16 pixels per shared histogram
+const uint kWordsPerThread = 8u;     // a workgroup counts 256 * 8 * 8 pixels per shared histogram
 const uint kBinsPerThread = 8u;      // 256 * 8 >= 2041
 
-layout(std430, set = 0, binding = 4) readonly buffer Mag { uint mag[]; };
-layout(std430, set = 0, binding = 5) buffer Hist { uint hist[]; };
-layout(std430, set = 0, binding = 6) buffer Thresholds { uint params[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Dx { uvec4 dx[]; };  // sobel.comp layout
+layout(std430, set = 0, binding = 3) readonly buffer Dy { uvec4 dy[]; };
+layout(std430, set = 0, binding = 4) buffer Hist { uint hist[]; };
+layout(std430, set = 0, binding = 5) buffer Thresholds { uint params[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
 shared uint local_hist[kBins];
 shared uint partial[256];
+
+// Signed 16-bit values 0..3 / 4..7 of eight packed in a uvec4 (value 2k in the low half of word k).
+ivec4 Lo16(uvec4 v) { return ivec4(uvec4(v.xxyy) << uvec4(16u, 0u, 16u, 0u)) >> 16; }
+ivec4 Hi16(uvec4 v) { return ivec4(uvec4(v.zzww) << uvec4(16u, 0u, 16u, 0u)) >> 16; }
 
 void Histogram() {
   uint lid = gl_LocalInvocationID.x;
   for (uint b = lid; b < kBins; b += 256u) local_hist[b] = 0u;
   barrier();
   uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  uint base = group * 256u * kPixelsPerThread;
-  uint n = pc.width * pc.height;
-  for (uint j = 0u; j < kPixelsPerThread; ++j) {
-    uint i = base + j * 256u + lid;
-    if (i < n) atomicAdd(local_hist[min(mag[i], kBins - 1u)], 1u);
+  uint per_row = pc.d;  // uvec4 (8 pixels) per row
+  uint total = per_row * pc.height;
+  for (uint j = 0u; j < kWordsPerThread; ++j) {
+    uint q = (group * kWordsPerThread + j) * 256u + lid;
+    if (q >= total) continue;
+    uint y = q / per_row;
+    int inside = int(pc.width) - int(8u * (q - y * per_row));  // pixels of this uvec4 in the row
+    // mag = |dx| + |dy| of pixels 0..3 (lo) and 4..7 (hi); pixels past the row end are skipped.
+    uvec4 gx = dx[q], gy = dy[q];
+    uvec4 lo = uvec4(abs(Lo16(gx)) + abs(Lo16(gy))), hi = uvec4(abs(Hi16(gx)) + abs(Hi16(gy)));
+    bvec4 in_lo = lessThan(ivec4(0, 1, 2, 3), ivec4(inside)), in_hi = lessThan(ivec4(4, 5, 6, 7), ivec4(inside));
+    if (in_lo.x) atomicAdd(local_hist[lo.x], 1u);
+    if (in_hi.x) atomicAdd(local_hist[hi.x], 1u);
+    if (in_lo.y) atomicAdd(local_hist[lo.y], 1u);
+    if (in_hi.y) atomicAdd(local_hist[hi.y], 1u);
+    if (in_lo.z) atomicAdd(local_hist[lo.z], 1u);
+    if (in_hi.z) atomicAdd(local_hist[hi.z], 1u);
+    if (in_lo.w) atomicAdd(local_hist[lo.w], 1u);
+    if (in_hi.w) atomicAdd(local_hist[hi.w], 1u);
   }
   barrier();
   for (uint b = lid; b < kBins; b += 256u) {

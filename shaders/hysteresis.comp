@@ -1,71 +1,91 @@
-// hysteresis: one round of Canny edge tracking (kernels/hysteresis.h), run repeatedly by the host.
+// hysteresis: Canny edge tracking (kernels/hysteresis.h) on bit masks, in few dispatches.
 //
 // Contract reached: a pixel is an edge exactly when it is weak or strong and 8-connected through
-// weak/strong pixels to a strong one. Map (binding 7, one uint per pixel): 0 none, 1 weak,
-// 2 edge (strong, or weak already reached). The only write is weak -> edge for a weak pixel with an
-// edge neighbour, which is monotone, so races between invocations only change how fast, not where,
-// the iteration ends.
+// weak/strong pixels to a strong one. Binding 6 holds, per row y and 32-pixel word s (row-major,
+// pc.b words per row), uvec2(candidate, edge): bit k of a word is pixel x = 32 s + k;
+// candidate = weak or strong (nms.comp), edge = strong or reached. Padding bits are 0.
 //
-// One round: each 16x16 tile loads itself plus a one-pixel halo into shared memory and promotes
-// "weak with an edge neighbour" inside the tile until the tile stops changing (at most 16 * 16
-// inner steps: each step that continues promotes at least one of the tile's 256 pixels), then
-// writes the promoted pixels back and sets flags[pc.a + 1] = 1 if it promoted any.
-// Round r runs only when flags[r] != 0 (the previous round changed something); the host sets
-// flags[0] = 1 and the rest to 0 before a batch of rounds and reads the last flag after it.
-// A round in which no tile changes anything (halos included) is a fixed point of the global rule,
-// i.e. the contract. Every round that does not end the iteration promotes at least one weak pixel,
-// so there are at most width * height + 1 rounds (in practice a few: one per tile crossing).
+// One invocation owns one column of words (a 32-pixel strip, all rows) and sweeps it down, then
+// up, repeating until a down+up pair changes nothing (one sweep carries an edge along the whole
+// strip; see Sweep). 8-connectivity inside one row is plain left/right adjacency, so a row's
+// candidate runs are flooded with a Kogge-Stone fill. The only write is "candidate becomes edge"
+// with an edge neighbour, which is monotone, so stale reads of a neighbour strip (written concurrently)
+// only delay a promotion, never make a wrong one; and a dispatch in which no invocation changes
+// anything read only final values, so it is a fixed point of the global rule, i.e. the contract.
+// Each invocation's loop is bounded by 32 * height + 1 sweep pairs (every pair that continues
+// promotes a pixel of its strip); it then reports "changed", so the host still decides.
+//
+// Binding 7: dispatch pc.a runs only when flags[pc.a] != 0 (the previous one changed something)
+// and sets flags[pc.a + 1] = 1 when it changed anything; the host reads the last flag. Every
+// dispatch that does not end the iteration promotes a pixel, so width * height + 1 dispatches
+// bound it.
+// Workgroups of 8 invocations: lavapipe runs 8 lanes per SIMD group and one workgroup per CPU
+// thread, so small groups spread the few strips over all threads.
 #version 450
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = 8) in;
 
-layout(std430, set = 0, binding = 7) buffer Map { uint map[]; };
-layout(std430, set = 0, binding = 8) buffer Flags { uint flags[]; };
+layout(std430, set = 0, binding = 6) coherent buffer Masks { uvec2 masks[]; };
+layout(std430, set = 0, binding = 7) buffer Flags { uint flags[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
-const int kTile = 16;
-const int kSide = kTile + 2;
-const uint kWeak = 1u;
-const uint kEdge = 2u;
+// Bits of `seed` grown along the runs of `cand` that contain them (seed is a subset of cand),
+// both directions, in log2(32) steps per direction.
+uint FillRuns(uint seed, uint cand) {
+  uint up = seed, gu = cand, dn = seed, gd = cand;
+  up |= gu & (up << 1u);  gu &= gu << 1u;   dn |= gd & (dn >> 1u);  gd &= gd >> 1u;
+  up |= gu & (up << 2u);  gu &= gu << 2u;   dn |= gd & (dn >> 2u);  gd &= gd >> 2u;
+  up |= gu & (up << 4u);  gu &= gu << 4u;   dn |= gd & (dn >> 4u);  gd &= gd >> 4u;
+  up |= gu & (up << 8u);  gu &= gu << 8u;   dn |= gd & (dn >> 8u);  gd &= gd >> 8u;
+  up |= gu & (up << 16u);                   dn |= gd & (dn >> 16u);
+  return up | dn;
+}
 
-shared uint tile[kSide * kSide];
-shared uint tile_changed;
+// One sweep over the strip's rows, from row `start` in direction `dir` (+1 down, -1 up). A row
+// step promotes the candidates touching an edge pixel in the row before (already updated), the
+// row itself or the row after, the neighbour strips' bits 31 / 0 included, then floods the row's
+// candidate runs. Loads run one row ahead and are carried, so a step does three loads and no
+// data-dependent ones (lavapipe executes both sides of a branch, masked, so "rare" loads cost
+// as much as common ones). ls / rs: the neighbour strips (clamped), lm / rm: ~0 when they exist.
+void Sweep(int start, int dir, uint s, uint ls, uint rs, uint lm, uint rm, uint wpr, int h, inout bool changed) {
+  uvec2 cur = masks[uint(start) * wpr + s];
+  uint lcur = masks[uint(start) * wpr + ls].y & lm, rcur = masks[uint(start) * wpr + rs].y & rm;
+  uint prev = 0u, lprev = 0u, rprev = 0u;
+  for (int i = 0; i < h; ++i) {
+    int y = start + i * dir, ya = y + dir;
+    uint inside = (ya >= 0 && ya < h) ? ~0u : 0u;
+    uint row = uint(clamp(ya, 0, h - 1)) * wpr;
+    uvec2 nxt = masks[row + s] & uvec2(inside);
+    uint lnx = masks[row + ls].y & lm & inside, rnx = masks[row + rs].y & rm & inside;
+    uint v = prev | cur.y | nxt.y;
+    uint reach = v | (v << 1u) | (v >> 1u) | ((lprev | lcur | lnx) >> 31u) | (((rprev | rcur | rnx) & 1u) << 31u);
+    uint grown = cur.x & ~cur.y & reach;
+    uint e = cur.y;
+    if (grown != 0u) {
+      e = FillRuns(e | grown, cur.x);
+      masks[uint(y) * wpr + s].y = e;
+      changed = true;
+    }
+    prev = e;
+    lprev = lcur; lcur = lnx;
+    rprev = rcur; rcur = rnx;
+    cur = nxt;
+  }
+}
 
 void main() {
-  if (flags[pc.a] == 0u) return;  // uniform: written by the previous dispatch, read by all
-  int w = int(pc.width), h = int(pc.height);
-  int lx = int(gl_LocalInvocationID.x), ly = int(gl_LocalInvocationID.y);
-  int ox = int(gl_WorkGroupID.x) * kTile - 1, oy = int(gl_WorkGroupID.y) * kTile - 1;
-  uint lid = gl_LocalInvocationIndex;
-  for (uint t = lid; t < uint(kSide * kSide); t += 256u) {
-    int gx = ox + int(t % uint(kSide)), gy = oy + int(t / uint(kSide));
-    uint v = 0u;
-    if (gx >= 0 && gy >= 0 && gx < w && gy < h) v = map[uint(gy) * pc.width + uint(gx)];
-    tile[t] = v;
+  uint s = gl_GlobalInvocationID.x;
+  uint wpr = pc.b;
+  if (s >= wpr || flags[pc.a] == 0u) return;
+  int h = int(pc.height);
+  uint ls = s > 0u ? s - 1u : s, rs = s + 1u < wpr ? s + 1u : s;
+  uint lm = s > 0u ? ~0u : 0u, rm = s + 1u < wpr ? ~0u : 0u;
+  bool any = false;
+  for (uint pass = 0u; pass <= 32u * pc.height; ++pass) {
+    bool changed = false;
+    Sweep(0, 1, s, ls, rs, lm, rm, wpr, h, changed);
+    Sweep(h - 1, -1, s, ls, rs, lm, rm, wpr, h, changed);
+    if (!changed) break;
+    any = true;
   }
-  int x = ox + 1 + lx, y = oy + 1 + ly;
-  int me = (ly + 1) * kSide + (lx + 1);
-  barrier();
-  uint initial = tile[me];
-  // Bounded: a step that does not exit promotes >= 1 of the 256 tile pixels, so <= 257 steps.
-  for (int step = 0; step <= kTile * kTile; ++step) {
-    if (lid == 0u) tile_changed = 0u;
-    barrier();
-    if (tile[me] == kWeak) {
-      bool reach = tile[me - kSide - 1] == kEdge || tile[me - kSide] == kEdge || tile[me - kSide + 1] == kEdge ||
-                   tile[me - 1] == kEdge || tile[me + 1] == kEdge ||
-                   tile[me + kSide - 1] == kEdge || tile[me + kSide] == kEdge || tile[me + kSide + 1] == kEdge;
-      if (reach) {
-        tile[me] = kEdge;
-        tile_changed = 1u;
-      }
-    }
-    barrier();
-    uint changed = tile_changed;
-    barrier();  // everyone has read tile_changed before thread 0 clears it again
-    if (changed == 0u) break;
-  }
-  if (x < w && y < h && tile[me] != initial) {
-    map[uint(y) * pc.width + uint(x)] = kEdge;
-    flags[pc.a + 1u] = 1u;
-  }
+  if (any) flags[pc.a + 1u] = 1u;
 }

@@ -3,43 +3,134 @@
 //                          (ay << 15) > 79109 ax -> vertical neighbours (x, y-1), (x, y+1)
 //                          otherwise diagonal, s = (dx, dy same sign) ? 1 : -1: (x-s, y-1), (x+s, y+1)
 //   local max: mag > first and mag >= second (diagonal: > both); mag <= low is never an edge.
-// Out (binding 7, one uint per pixel): 0 none, 1 weak (mag > low), 2 strong (mag > high);
-// the outermost rows and columns are 0. Thresholds come from binding 6 (canny_thresholds.comp).
+// In: dx, dy as sobel.comp packs them (two int16 per uint, rows of pc.d = 4 * pc.b uvec4, i.e.
+// whole mask words; values past the row end are don't-care), mag = |dx| + |dy| recomputed;
+// thresholds from binding 5 (canny_thresholds.comp).
+// Out (binding 6, the bit masks of hysteresis.comp): per row y and 32-pixel word s (pc.b words per
+// row), uvec2(weak or strong, strong), bit k = pixel x = 32 s + k; the outermost rows and columns
+// and the bits past the row end are 0.
+// One invocation: one mask word (32 pixels) of kRows rows, the three gradient rows carried in
+// registers; 8 pixels (one uvec4 per row) at a time in vector registers.
 #version 450
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = 64) in;
 
-layout(std430, set = 0, binding = 2) readonly buffer Dx { uint dx[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Dy { uint dy[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Mag { uint mag[]; };
-layout(std430, set = 0, binding = 6) readonly buffer Thresholds { uint params[]; };
-layout(std430, set = 0, binding = 7) writeonly buffer Map { uint map[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Dx { uvec4 dx[]; };
+layout(std430, set = 0, binding = 3) readonly buffer Dy { uvec4 dy[]; };
+layout(std430, set = 0, binding = 5) readonly buffer Thresholds { uint params[]; };
+layout(std430, set = 0, binding = 6) writeonly buffer Masks { uvec2 masks[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
-int Unpack16(uint word, uint i) { return bitfieldExtract(int(word), int((i & 1u) * 16u), 16); }
-int M(int x, int y) { return int(mag[uint(y) * pc.width + uint(x)]); }
+const uint kRows = 8u;
+
+// Eight packed int16 (value 2k in the low half of word k): pixels 0..3 in lo, 4..7 in hi.
+void Signed16(uvec4 v, out ivec4 lo, out ivec4 hi) {
+  lo = ivec4(uvec4(v.xxyy) << uvec4(16u, 0u, 16u, 0u)) >> 16;
+  hi = ivec4(uvec4(v.zzww) << uvec4(16u, 0u, 16u, 0u)) >> 16;
+}
+
+// A row's 32 pixels of dx and dy (x0 / y0 = pixels 0..7, ...) plus the magnitudes of the pixels
+// just left and right of them.
+struct Row { uvec4 x0, x1, x2, x3, y0, y1, y2, y3; int l, r; };
+
+Row LoadRow(int y, uint s, bool has_left, bool has_right) {
+  uint q = uint(y) * pc.d + 4u * s;
+  Row row;
+  row.x0 = dx[q]; row.x1 = dx[q + 1u]; row.x2 = dx[q + 2u]; row.x3 = dx[q + 3u];
+  row.y0 = dy[q]; row.y1 = dy[q + 1u]; row.y2 = dy[q + 2u]; row.y3 = dy[q + 3u];
+  row.l = has_left ? abs(int(dx[q - 1u].w) >> 16) + abs(int(dy[q - 1u].w) >> 16) : 0;
+  row.r = has_right ? abs(int(dx[q + 4u].x << 16u) >> 16) + abs(int(dy[q + 4u].x << 16u) >> 16) : 0;
+  return row;
+}
+
+// Group j (8 pixels) of a row: gradients, magnitudes, and the magnitudes of the pixels left and
+// right of the group. j is a constant at every call, so the selects fold away.
+void Group(Row row, uint j, out ivec4 gxl, out ivec4 gxh, out ivec4 gyl, out ivec4 gyh, out ivec4 mlo,
+           out ivec4 mhi, out int l, out int r) {
+  uvec4 qx = j == 0u ? row.x0 : j == 1u ? row.x1 : j == 2u ? row.x2 : row.x3;
+  uvec4 qy = j == 0u ? row.y0 : j == 1u ? row.y1 : j == 2u ? row.y2 : row.y3;
+  Signed16(qx, gxl, gxh);
+  Signed16(qy, gyl, gyh);
+  mlo = abs(gxl) + abs(gyl);
+  mhi = abs(gxh) + abs(gyh);
+  if (j == 0u) {
+    l = row.l;
+  } else {
+    uvec4 px = j == 1u ? row.x0 : j == 2u ? row.x1 : row.x2, py = j == 1u ? row.y0 : j == 2u ? row.y1 : row.y2;
+    l = abs(int(px.w) >> 16) + abs(int(py.w) >> 16);
+  }
+  if (j == 3u) {
+    r = row.r;
+  } else {
+    uvec4 nx = j == 0u ? row.x1 : j == 1u ? row.x2 : row.x3, ny = j == 0u ? row.y1 : j == 1u ? row.y2 : row.y3;
+    r = abs(int(nx.x << 16u) >> 16) + abs(int(ny.x << 16u) >> 16);
+  }
+}
+
+// 4 pixels: bit k of the result for pixel k when it is a local maximum above `low`; `strong` the
+// same for mag > high. l/r: the pixels' left/right neighbours on their own row, u*/d*: above/below.
+uint Classify(ivec4 m, ivec4 l, ivec4 r, ivec4 u, ivec4 ul, ivec4 ur, ivec4 d, ivec4 dl, ivec4 dr,
+              ivec4 gx, ivec4 gy, ivec4 x, int low, int high, out uint strong) {
+  ivec4 ax = abs(gx), ay = abs(gy);
+  ivec4 ay15 = ay << 15;
+  bvec4 horiz = lessThan(ay15, 13573 * ax);
+  bvec4 vert = greaterThan(ay15, 79109 * ax);
+  bvec4 same = greaterThanEqual(gx ^ gy, ivec4(0));
+  ivec4 first = mix(mix(mix(ur, ul, same), u, vert), l, horiz);
+  ivec4 second = mix(mix(mix(dl, dr, same), d, vert), r, horiz);
+  uvec4 diag = uvec4(not(horiz)) & uvec4(not(vert));
+  uvec4 beats_second = uvec4(greaterThan(m, second)) | (uvec4(equal(m, second)) & (1u - diag));
+  uvec4 ok = uvec4(greaterThan(m, first)) & beats_second & uvec4(greaterThan(m, ivec4(low))) &
+             uvec4(greaterThanEqual(x, ivec4(1))) & uvec4(lessThan(x, ivec4(int(pc.width) - 1)));
+  uvec4 st = ok & uvec4(greaterThan(m, ivec4(high)));
+  uvec4 shift = uvec4(0u, 1u, 2u, 3u);
+  uvec4 sb = st << shift, cb = ok << shift;
+  strong = sb.x | sb.y | sb.z | sb.w;
+  return cb.x | cb.y | cb.z | cb.w;
+}
+
+// Pixels 8 j .. 8 j + 7 of the word: candidate bits (returned) and strong bits, in the low byte.
+uint ClassifyGroup(Row u, Row c, Row d, uint j, int x0, int low, int high, out uint strong) {
+  ivec4 gxl, gxh, gyl, gyh, ulo, uhi, clo, chi, dlo, dhi, unused;
+  int ul, ur, cl, cr, dl, dr;
+  Group(u, j, unused, unused, unused, unused, ulo, uhi, ul, ur);
+  Group(d, j, unused, unused, unused, unused, dlo, dhi, dl, dr);
+  Group(c, j, gxl, gxh, gyl, gyh, clo, chi, cl, cr);
+  ivec4 xl = ivec4(x0) + ivec4(0, 1, 2, 3);
+  uint st_lo, st_hi;
+  uint c_lo = Classify(clo, ivec4(cl, clo.xyz), ivec4(clo.yzw, chi.x), ulo, ivec4(ul, ulo.xyz), ivec4(ulo.yzw, uhi.x),
+                       dlo, ivec4(dl, dlo.xyz), ivec4(dlo.yzw, dhi.x), gxl, gyl, xl, low, high, st_lo);
+  uint c_hi = Classify(chi, ivec4(clo.w, chi.xyz), ivec4(chi.yzw, cr), uhi, ivec4(ulo.w, uhi.xyz), ivec4(uhi.yzw, ur),
+                       dhi, ivec4(dlo.w, dhi.xyz), ivec4(dhi.yzw, dr), gxh, gyh, xl + 4, low, high, st_hi);
+  strong = st_lo | (st_hi << 4u);
+  return c_lo | (c_hi << 4u);
+}
 
 void main() {
-  int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
+  uint id = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
+  uint s = id % pc.b, block = id / pc.b;
   int w = int(pc.width), h = int(pc.height);
-  if (x >= w || y >= h) return;
-  uint i = uint(y) * pc.width + uint(x);
-  uint result = 0u;
+  int y0 = int(block * kRows);
+  if (y0 >= h) return;
+  int y1 = min(y0 + int(kRows), h);
   int low = int(params[0]), high = int(params[1]);
-  int m = int(mag[i]);
-  if (x > 0 && y > 0 && x < w - 1 && y < h - 1 && m > low) {
-    int gx = Unpack16(dx[i >> 1], i), gy = Unpack16(dy[i >> 1], i);
-    int ax = abs(gx), ay = abs(gy);
-    int ay15 = ay << 15;
-    bool is_max;
-    if (ay15 < 13573 * ax) {
-      is_max = m > M(x - 1, y) && m >= M(x + 1, y);
-    } else if (ay15 > 79109 * ax) {
-      is_max = m > M(x, y - 1) && m >= M(x, y + 1);
-    } else {
-      int s = ((gx ^ gy) < 0) ? -1 : 1;
-      is_max = m > M(x - s, y - 1) && m > M(x + s, y + 1);
+  bool has_left = s > 0u, has_right = s + 1u < pc.b;
+  int x0 = int(32u * s);
+  // Rows y - 1, y, y + 1, carried down the block; rows 0 and h - 1 are all zero (border).
+  Row u = LoadRow(max(y0 - 1, 0), s, has_left, has_right);
+  Row c = LoadRow(y0, s, has_left, has_right);
+  for (int y = y0; y < y1; ++y) {
+    Row d = LoadRow(min(y + 1, h - 1), s, has_left, has_right);
+    uint cand = 0u, strong = 0u;
+    if (y > 0 && y < h - 1) {
+      for (uint j = 0u; j < 4u; ++j) {
+        uint st;
+        uint cb = ClassifyGroup(u, c, d, j, x0 + int(8u * j), low, high, st);
+        cand |= cb << (8u * j);
+        strong |= st << (8u * j);
+      }
     }
-    if (is_max) result = (m > high) ? 2u : 1u;
+    masks[uint(y) * pc.b + s] = uvec2(cand, strong);
+    u = c;
+    c = d;
   }
-  map[i] = result;
 }

@@ -29,6 +29,7 @@
 #include "cpu/simd_kernels.h"
 #endif
 #ifdef ELLIPSEKIT_HAVE_VULKAN
+#include "runtime/vulkan_arc_stage.h"
 #include "runtime/vulkan_edge_stage.h"
 #endif
 
@@ -54,8 +55,10 @@ const char kConformUsage[] =
     "  thresholds (of low, high), nms (map), hysteresis (map), edge_sign (edge map),\n"
     "  polyline (vertex and offset elements), arc_split (split index and offset elements),\n"
     "  arc_stats (fields of the per-arc records), ellipses (Detector results differing in any field).\n"
-    "vulkan: sobel (pixels with dx or dy differing), edge_sign (edge map), then the arc stage with\n"
-    "  the CPU table it uses, and ellipses. Row padding counts: writes outside the image differ.\n"
+    "vulkan: sobel (pixels with dx or dy differing), edge_sign (edge map), then the device arc stage\n"
+    "  (polyline, arc_split, arc_stats chained in one submit on the reference curves; the CPU table\n"
+    "  when the device lacks shaderInt64, said on stderr), and ellipses. Row padding counts: writes\n"
+    "  outside the image differ.\n"
     "Last line: conform: N comparisons, M differing\n"
     "Exit status: 0 all identical, 1 something differs, an image could not be read or a backend\n"
     "asked for is unavailable (reported on stderr), 2 bad usage.\n";
@@ -318,6 +321,28 @@ void CompareArcs(const KernelTable& k, const Options& o, const Reference& ref, c
   rep->Line(image, label, "arc_stats", CountArcStatsDiff(got.stats, ref.arcs.stats));
 }
 
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+// The device arc stage on the reference curves. Its three kernels run chained in one submit, so a
+// polyline difference would carry into arc_split and arc_stats; false (reported) when it failed.
+bool CompareVulkanArcs(VulkanArcStage* stage, const Options& o, const Reference& ref, const std::string& image,
+                       Reporter* rep) {
+  ArcStage got;
+  const Status st = stage->Run(ref.curves, PolylineToleranceQ16(o.polyline_tolerance), SplitTanQ16(o.split_angle_deg),
+                               o.min_curve_points, &got.polylines, &got.splits, &got.stats);
+  if (!st.ok()) {
+    std::fprintf(stderr, "ellipsekit conform: %s: vulkan arc stage failed: %s\n", image.c_str(), st.message().c_str());
+    return false;
+  }
+  rep->Line(image, "vulkan", "polyline",
+            CountDiff(got.polylines.vertex, ref.arcs.polylines.vertex) +
+                CountDiff(got.polylines.offset, ref.arcs.polylines.offset));
+  rep->Line(image, "vulkan", "arc_split",
+            CountDiff(got.splits.index, ref.arcs.splits.index) + CountDiff(got.splits.offset, ref.arcs.splits.offset));
+  rep->Line(image, "vulkan", "arc_stats", CountArcStatsDiff(got.stats, ref.arcs.stats));
+  return true;
+}
+#endif
+
 // A Detector run compared with the reference's; false (reported) when detection failed.
 bool CompareDetector(Detector* detector, const ImageView& img, const Reference& ref, const std::string& image,
                      const std::string& label, Reporter* rep) {
@@ -339,6 +364,7 @@ struct BackendRun {
   std::unique_ptr<Detector> detector;
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   std::unique_ptr<VulkanEdgeStage> vulkan;
+  std::unique_ptr<VulkanArcStage> vulkan_arcs;  // null: the device lacks shaderInt64
 #endif
 };
 
@@ -367,6 +393,10 @@ bool Prepare(Which w, const Options& base, BackendRun* c, std::string* why) {
       *why = vs.message();
       return false;
     }
+    const Status as = VulkanArcStage::Create(&c->vulkan_arcs);
+    if (!as.ok())
+      std::fprintf(stderr, "ellipsekit conform: %s; comparing the CPU arc kernels the Detector uses instead\n",
+                   as.message().c_str());
   }
 #endif
   Options o = base;
@@ -513,8 +543,14 @@ int RunConform(const std::vector<std::string>& argv) {
             rep.Line(path, "vulkan", "sobel", grad_diff);
             rep.Line(path, "vulkan", "edge_sign", edge_diff);
           }
-#endif
+          if (c.vulkan_arcs) {
+            failed |= !CompareVulkanArcs(c.vulkan_arcs.get(), options, ref, path, &rep);
+          } else {
+            CompareArcs(*c.table, options, ref, path, "vulkan", &rep);
+          }
+#else
           CompareArcs(*c.table, options, ref, path, "vulkan", &rep);
+#endif
           failed |= !CompareDetector(c.detector.get(), img, ref, path, "vulkan", &rep);
           break;
         }
