@@ -10,6 +10,17 @@
 
 namespace ellipsekit::robot {
 
+namespace {
+
+// Whether the point (x, y) lies inside the ellipse (cx, cy, a, b, theta).
+bool Inside(double x, double y, double cx, double cy, double a, double b, double theta) {
+  const double dx = x - cx, dy = y - cy, c = std::cos(theta), s = std::sin(theta);
+  const double u = (c * dx + s * dy) / a, v = (-s * dx + c * dy) / b;
+  return u * u + v * v <= 1.0;
+}
+
+}  // namespace
+
 const char* TrackStateName(TrackState s) {
   switch (s) {
     case TrackState::kTentative: return "tentative";
@@ -88,6 +99,7 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
       const double w = options_.axis_smoothing;
       f.a = (1 - w) * f.a + w * dets[j].a;
       f.b = (1 - w) * f.b + w * dets[j].b;
+      f.score = (1 - w) * f.score + w * dets[j].score;
       t.ellipse.theta = dets[j].theta;
       t.ellipse.score = dets[j].score;
       ++t.hits;
@@ -120,8 +132,35 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
       filters.push_back(filters_[i]);
     }
   }
+  // Track birth. A detection left unassigned that overlaps an established (confirmed or lost)
+  // track, i.e. its centre lies inside the track's ellipse at the filtered/predicted position or the
+  // track's centre inside the detection, competes with that track for the same image region: two
+  // can tops cannot overlap that much while both are seen whole. Such detections are mostly a second
+  // contour of the object (body, shadow, rim) or an ellipse merging the tops of crossing objects;
+  // they recur for a few frames, and a track born on them gets confirmed while the object's own
+  // track is missed, then holds the object's detections or its id. So:
+  //   - a detection overlapping two or more established tracks is a merge of their tops: no birth;
+  //   - a detection overlapping one established track starts a track only when it is better
+  //     supported by the image (detector score) than the detections that track was built on, so an
+  //     established track keeps its area against weaker artefacts, but a track that was itself
+  //     confirmed on an artefact does not block the real top from getting its own track.
+  auto may_start_track = [&](const Ellipse& d) {
+    int overlapped = 0;
+    double best_score = -INFINITY;
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+      if (tracks[i].state == TrackState::kTentative) continue;
+      const Internal& f = filters[i];
+      const Eigen::Vector2d p = f.kf.position();
+      if (Inside(d.cx, d.cy, p.x(), p.y(), f.a, f.b, tracks[i].ellipse.theta) ||
+          Inside(p.x(), p.y(), d.cx, d.cy, d.a, d.b, d.theta)) {
+        ++overlapped;
+        best_score = std::max(best_score, f.score);
+      }
+    }
+    return overlapped == 0 || (overlapped == 1 && d.score > best_score);
+  };
   for (int j = 0; j < nd; ++j) {
-    if (det_used[j]) continue;
+    if (det_used[j] || !may_start_track(dets[j])) continue;
     Track t;
     t.id = next_id_++;
     t.state = options_.confirm_hits <= 1 ? TrackState::kConfirmed : TrackState::kTentative;
@@ -133,7 +172,7 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
     filters.push_back(Internal{ConstantVelocityKalman(Eigen::Vector2d(dets[j].cx, dets[j].cy),
                                                       options_.measurement_var, options_.initial_velocity_var,
                                                       options_.accel_density, options_.measurement_var),
-                               dets[j].a, dets[j].b});
+                               dets[j].a, dets[j].b, dets[j].score});
   }
   tracks_ = std::move(tracks);
   filters_ = std::move(filters);

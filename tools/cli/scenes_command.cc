@@ -15,6 +15,7 @@ namespace ellipsekit::cli {
 const char kScenesUsage[] =
     "Usage: ellipsekit scenes --out DIR [--count N] [--seed S]\n"
     "       ellipsekit scenes --conveyor [--speed V] --out DIR [--seed S]\n"
+    "       ellipsekit scenes --stack|--crossing [--speed V] [--frames N] --out DIR [--seed S]\n"
     "\n"
     "Writes N generated scenes (ray-cast cylinders, exact ground truth) as a dataset:\n"
     "DIR/images/ and DIR/gt/<stem>.txt, usable with 'ellipsekit eval DIR'.\n"
@@ -23,13 +24,21 @@ const char kScenesUsage[] =
     "3 s (90 frames), turning round at the guide's ends: DIR/frames/NNNNNN.png, DIR/depth/NNNNNN.png\n"
     "(uint16 mm along the camera z axis, 0 = invalid), timestamps.txt, camera.json, conveyor.json,\n"
     "truth.jsonl (true top centres and ellipses per frame); input of 'ellipsekit track'.\n"
+    "With --stack, the same kind of sequence (no conveyor.json) of a static stacking scene: one can\n"
+    "on the feed side (right half), one on the stack side (left half), N frames (default 20) with\n"
+    "independent image and depth noise. With --crossing, two cans on parallel lanes moving in\n"
+    "opposite directions at V m/s (default 0.05) and passing each other at mid-sequence (default 30\n"
+    "frames). Camera 0.5-1.0 m from the tops; truth.jsonl has one entry per can.\n"
     "\n"
     "Options:\n"
     "  --out DIR         output directory (required)\n"
     "  --count N         number of scenes, N >= 1 (default 200)\n"
     "  --seed S          unsigned 64-bit seed (default 7)\n"
     "  --conveyor        write a conveyor sequence (see above)\n"
-    "  --speed V         conveyor speed in m/s, 0 < V <= 10 (default 0.05; needs --conveyor)\n"
+    "  --speed V         conveyor speed in m/s, 0 < V <= 10 (default 0.05; needs --conveyor or --crossing)\n"
+    "  --stack           write a static stacking sequence (see above)\n"
+    "  --crossing        write a sequence of two cans crossing (see above)\n"
+    "  --frames N        frames of a --stack or --crossing sequence, 1 <= N <= 100000\n"
     "  -h, --help        this text\n";
 
 int RunScenes(const std::vector<std::string>& argv) {
@@ -37,6 +46,8 @@ int RunScenes(const std::vector<std::string>& argv) {
   int count = 200;
   std::uint64_t seed = 7;
   bool conveyor = false, count_given = false;
+  bool stack = false, crossing = false;
+  int frames = 0;  // 0: the default of the sequence kind
   double speed = 0.05;
   std::string speed_text;
   ArgReader r(argv);
@@ -56,6 +67,14 @@ int RunScenes(const std::vector<std::string>& argv) {
     } else if (name == "--conveyor") {
       r.NoValue();
       conveyor = true;
+    } else if (name == "--stack") {
+      r.NoValue();
+      stack = true;
+    } else if (name == "--crossing") {
+      r.NoValue();
+      crossing = true;
+    } else if (name == "--frames") {
+      frames = ParseIntValue(name, r.Value(), 1, 100000);
     } else if (name == "--speed") {
       speed_text = r.Value();
       char* end = nullptr;
@@ -67,7 +86,12 @@ int RunScenes(const std::vector<std::string>& argv) {
     }
   }
   if (out.empty()) throw UsageError("--out DIR is required");
-  if (!conveyor && !speed_text.empty()) throw UsageError("--speed needs --conveyor");
+  if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) > 1)
+    throw UsageError("--conveyor, --stack and --crossing exclude each other");
+  if (crossing && speed_text.empty()) speed = 0.05;
+  if (!conveyor && !crossing && !speed_text.empty()) throw UsageError("--speed needs --conveyor");
+  if (frames > 0 && !stack && !crossing) throw UsageError("--frames needs --stack or --crossing");
+  if ((stack || crossing) && count_given) throw UsageError("--count does not apply to --stack or --crossing");
   if (conveyor && count_given) throw UsageError("--count does not apply to --conveyor");
 #ifdef ELLIPSEKIT_HAVE_SCENES
   if (conveyor) {
@@ -81,6 +105,21 @@ int RunScenes(const std::vector<std::string>& argv) {
     }
     std::printf("wrote conveyor sequence (%d frames, %.3f m/s, guide %.3f m, seed %llu) to %s\n", info.frames,
                 info.speed_m_s, info.length_m, static_cast<unsigned long long>(seed), out.c_str());
+    return kExitOk;
+  }
+  if (stack || crossing) {
+    scenes::CanSceneOptions co;
+    co.speed_m_s = crossing ? speed : 0;
+    co.frames = frames > 0 ? frames : (crossing ? 30 : 20);
+    scenes::CanSequence info;
+    const Status cst = scenes::WriteCanSequence(out, seed, co, &info);
+    if (!cst.ok()) {
+      std::fprintf(stderr, "ellipsekit scenes: %s\n", cst.message().c_str());
+      return kExitFailure;
+    }
+    std::printf("wrote %s sequence (%d frames, %.3f m/s, radii %.4f/%.4f m, seed %llu) to %s\n",
+                crossing ? "crossing" : "stacking", info.frames, co.speed_m_s, info.radius_m[0], info.radius_m[1],
+                static_cast<unsigned long long>(seed), out.c_str());
     return kExitOk;
   }
   const Status st = scenes::WriteSceneDataset(out, count, seed);

@@ -232,6 +232,9 @@ class World {
   // A conveyor sequence in this world (see scene_generator.h).
   ellipsekit::Status BuildConveyor(const ConveyorSceneOptions& co, std::uint64_t seed, ConveyorSequence* info,
                                    const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink);
+  // Two cans, static or crossing (see scene_generator.h, CanSceneOptions).
+  ellipsekit::Status BuildCans(const CanSceneOptions& co, std::uint64_t seed, CanSequence* info,
+                               const std::function<ellipsekit::Status(const CanFrame&)>& sink);
 
  private:
   // setup
@@ -1281,6 +1284,216 @@ ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uin
   return Status::Ok();
 }
 
+// Depth as a sensor reads it (see ConveyorSceneOptions): Gaussian noise growing with z^2, 1 mm
+// steps, a share of dropped pixels and about half of the pixels at depth jumps > 2 cm dropped.
+// Draws the same random numbers for every pixel, so the noise does not depend on the content.
+void DegradeDepth(const std::vector<double>& z, int W, int H, double noise_mm, double invalid_fraction, Rng* rng,
+                  cv::Mat* out) {
+  out->create(H, W, CV_16UC1);
+  for (int y = 0; y < H; ++y) {
+    std::uint16_t* dst = out->ptr<std::uint16_t>(y);
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * W + x;
+      const double zz = z[i];
+      const double n = rng->Normal(), drop = rng->Uniform(), edge_drop = rng->Uniform();
+      if (!(zz > 0)) {
+        dst[x] = 0;
+        continue;
+      }
+      double jump = 0;
+      if (x > 0) jump = std::max(jump, std::abs(zz - z[i - 1]));
+      if (x + 1 < W) jump = std::max(jump, std::abs(zz - z[i + 1]));
+      if (y > 0) jump = std::max(jump, std::abs(zz - z[i - W]));
+      if (y + 1 < H) jump = std::max(jump, std::abs(zz - z[i + W]));
+      if (drop < invalid_fraction || (jump > 0.02 && edge_drop < 0.5)) {
+        dst[x] = 0;
+        continue;
+      }
+      const double mm = zz * 1000 + noise_mm * (1 + zz * zz) * n;
+      dst[x] = static_cast<std::uint16_t>(Clamp(std::floor(mm + 0.5), 1.0, 65535.0));
+    }
+  }
+}
+
+ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t seed, CanSequence* info,
+                                    const std::function<ellipsekit::Status(const CanFrame&)>& sink) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  no_boxes_ = true;
+  SetupCamera();
+  const bool crossing = co.speed_m_s > 0;
+  Cylinder cans[2];
+  for (Cylinder& c : cans) {
+    c.kind = CylKind::kCan;
+    c.r = rng_.Uniform(co.min_radius_m, co.max_radius_m);
+    c.h = rng_.Uniform(co.min_height_m, co.max_height_m);
+    ColorCylinder(&c);
+  }
+  if (crossing) cans[0].h = cans[1].h + co.crossing_height_difference_m;
+  for (Cylinder& c : cans) {
+    c.r2 = c.r * c.r;
+    c.r_in = c.r - 0.003;
+    c.r_in2 = c.r_in * c.r_in;
+    c.z_floor = 0.01;
+  }
+  // The camera height from the distance to the tops along the optical axis.
+  const double d = rng_.Uniform(co.min_distance_m, co.max_distance_m);
+  const double h_ref = crossing ? cans[1].h : 0.5 * (cans[0].h + cans[1].h);
+  cam_.pos.z = h_ref + d * -cam_.fwd.z;
+  SetupLightAndSurfaces();
+
+  auto fits = [&](Cylinder c, double x, double y) {
+    c.x = x;
+    c.y = y;
+    if (has_wall_ && c.x + c.r > wall_x_ - 0.01) return false;
+    if (!ComputeTruth(&c)) return false;
+    const ellipsekit::Ellipse& e = c.truth;
+    const double ct = std::cos(e.theta), st = std::sin(e.theta);
+    const double ex = std::sqrt(e.a * e.a * ct * ct + e.b * e.b * st * st);
+    const double ey = std::sqrt(e.a * e.a * st * st + e.b * e.b * ct * ct);
+    const double m = 12;
+    return e.b >= 4 && e.cx - ex >= m && e.cx + ex <= W_ - 1 - m && e.cy - ey >= m && e.cy + ey <= H_ - 1 - m;
+  };
+
+  CanSequence seq;
+  seq.width = W_;
+  seq.height = H_;
+  seq.K = cam_.K();
+  seq.T_world_camera = cv::Matx44d(cam_.right.x, cam_.down.x, cam_.fwd.x, cam_.pos.x,  //
+                                   cam_.right.y, cam_.down.y, cam_.fwd.y, cam_.pos.y,  //
+                                   cam_.right.z, cam_.down.z, cam_.fwd.z, cam_.pos.z,  //
+                                   0, 0, 0, 1);
+  seq.fps = co.fps;
+  seq.frames = co.frames;
+  if (!crossing) {
+    // Can 0 on the feed side (right half), can 1 on the stack side (left half).
+    bool placed = false;
+    for (int tries = 0; tries < 100 && !placed; ++tries) {
+      V3 p[2];
+      bool ok = true;
+      for (int k = 0; k < 2 && ok; ++k) {
+        const double u = (k == 0 ? 0.7 : 0.3) * W_ + rng_.Uniform(-0.08, 0.08) * W_;
+        const double v = rng_.Uniform(0.35, 0.65) * H_;
+        ok = TablePointAt(u, v, cans[k].h, &p[k]) && fits(cans[k], p[k].x, p[k].y);
+      }
+      if (!ok || std::hypot(p[0].x - p[1].x, p[0].y - p[1].y) < cans[0].r + cans[1].r + 0.01) continue;
+      for (int k = 0; k < 2; ++k) {
+        cans[k].x = p[k].x;
+        cans[k].y = p[k].y;
+        ComputeTruth(&cans[k]);
+      }
+      placed = cans[0].truth.cx > 0.5 * W_ && cans[1].truth.cx < 0.5 * W_;
+    }
+    if (!placed) return Status(StatusCode::kInternal, "can scene: the cans do not fit in the image");
+    for (int k = 0; k < 2; ++k) {
+      seq.start_point.push_back(cv::Vec3d(cans[k].x, cans[k].y, cans[k].h));
+      seq.velocity_m_s.push_back(cv::Vec3d(0, 0, 0));
+    }
+  } else {
+    // Two lanes roughly along the image rows through the table point below the image centre; can 0
+    // on the lane nearer the camera, moving along +dir, can 1 on the far lane along -dir; they pass
+    // each other at mid-sequence, below the image centre.
+    V3 mid;
+    if (!TablePointAt(cam_.pcx, cam_.pcy, cans[1].h, &mid))
+      return Status(StatusCode::kInternal, "can scene: the camera does not see the table");
+    const double ang = rng_.Uniform(-15, 15) * kPi / 180;
+    const V3 h0 = Normalize(V3{cam_.right.x, cam_.right.y, 0});
+    const V3 dir{h0.x * std::cos(ang) - h0.y * std::sin(ang), h0.x * std::sin(ang) + h0.y * std::cos(ang), 0};
+    V3 nrm{-dir.y, dir.x, 0};
+    if (Dot(nrm, V3{cam_.fwd.x, cam_.fwd.y, 0}) > 0) nrm = nrm * -1.0;  // towards the camera
+    const double off = 0.5 * (cans[0].r + cans[1].r + co.lane_gap_m);
+    const double L = co.speed_m_s * (co.frames - 1) / co.fps;
+    const V3 s0 = mid + nrm * off - dir * (0.5 * L), s1 = mid - nrm * off + dir * (0.5 * L);
+    const V3 e0 = s0 + dir * L, e1 = s1 - dir * L;
+    if (!(fits(cans[0], s0.x, s0.y) && fits(cans[0], e0.x, e0.y) && fits(cans[1], s1.x, s1.y) &&
+          fits(cans[1], e1.x, e1.y)))
+      return Status(StatusCode::kInternal,
+                    "can scene: the crossing does not fit in the image (lower speed_m_s or frames)");
+    seq.start_point.push_back(cv::Vec3d(s0.x, s0.y, cans[0].h));
+    seq.start_point.push_back(cv::Vec3d(s1.x, s1.y, cans[1].h));
+    seq.velocity_m_s.push_back(cv::Vec3d(dir.x, dir.y, 0) * co.speed_m_s);
+    seq.velocity_m_s.push_back(cv::Vec3d(dir.x, dir.y, 0) * -co.speed_m_s);
+    for (int k = 0; k < 2; ++k) {
+      cans[k].x = seq.start_point[k][0];
+      cans[k].y = seq.start_point[k][1];
+      ComputeTruth(&cans[k]);
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    seq.radius_m.push_back(cans[k].r);
+    seq.height_m.push_back(cans[k].h);
+    seq.rim_width_m.push_back(cans[k].has_rim ? cans[k].rim_width : 0.0);
+  }
+
+  PlaceClutter();
+  cyl_.clear();
+  for (Cylinder& c : cans) {
+    FinishCylinderBounds(&c);
+    cyl_.push_back(c);
+  }
+  FixContrast();
+  if (info != nullptr) *info = seq;
+
+  // Static: render once, then only noise differs per frame. Crossing: the world without the cans
+  // once, then each frame re-renders each can's bounding box and shadow.
+  std::vector<float> bg;
+  std::vector<double> bgz(static_cast<size_t>(W_) * H_, 0.0);
+  const std::vector<Cylinder> placed = cyl_;
+  if (crossing) cyl_.clear();
+  Render(&bg);
+  RenderDepth(IRect{0, 0, W_ - 1, H_ - 1}, &bgz);
+  cyl_ = placed;
+
+  Rng drng(Mix64(seed ^ 0xBB67AE8584CAA73Bull));
+  std::vector<float> img;
+  std::vector<double> z;
+  for (int i = 0; i < co.frames; ++i) {
+    CanFrame fr;
+    fr.index = i;
+    fr.t = i / co.fps;
+    if (crossing) {
+      img = bg;
+      z = bgz;
+      for (int k = 0; k < 2; ++k) {
+        const cv::Vec3d p = seq.TopCentreAt(k, fr.t);
+        Cylinder& c = cyl_[k];
+        c.x = p[0];
+        c.y = p[1];
+        if (!ComputeTruth(&c)) return Status(StatusCode::kInternal, "can scene: degenerate top ellipse");
+        FinishCylinderBounds(&c);
+      }
+      for (int k = 0; k < 2; ++k) {
+        const Cylinder& c = cyl_[k];
+        IRect r = c.bbox;
+        if (c.shadow_bbox.x1 >= c.shadow_bbox.x0 && c.shadow_bbox.y1 >= c.shadow_bbox.y0) {
+          r.x0 = std::min(r.x0, c.shadow_bbox.x0);
+          r.y0 = std::min(r.y0, c.shadow_bbox.y0);
+          r.x1 = std::max(r.x1, c.shadow_bbox.x1);
+          r.y1 = std::max(r.y1, c.shadow_bbox.y1);
+        }
+        RenderRect(r, &img);
+        RenderDepth(r, &z);
+      }
+      Finish(img, &fr.gray);
+      DegradeDepth(z, W_, H_, co.depth_noise_mm, co.depth_invalid_fraction, &drng, &fr.depth_mm);
+    } else {
+      Finish(bg, &fr.gray);
+      DegradeDepth(bgz, W_, H_, co.depth_noise_mm, co.depth_invalid_fraction, &drng, &fr.depth_mm);
+    }
+    for (int k = 0; k < 2; ++k) {
+      const cv::Vec3d p = seq.TopCentreAt(k, fr.t);
+      double u = 0, v = 0;
+      cam_.Project(V3{p[0], p[1], p[2]}, &u, &v);
+      fr.top_centre.push_back(p);
+      fr.top_pixel.push_back(cv::Vec2d(u, v));
+      fr.truth.push_back(cyl_[k].truth);
+      fr.rim_visible.push_back(RimVisibleFraction(k, false, 0));
+    }
+    if (ellipsekit::Status st = sink(fr); !st.ok()) return st;
+  }
+  return Status::Ok();
+}
+
 std::string JoinPath(const std::filesystem::path& dir, const std::string& name) { return (dir / name).string(); }
 
 }  // namespace
@@ -1424,6 +1637,58 @@ ellipsekit::Status RenderConveyorSequence(std::uint64_t seed, const ConveyorScen
   return world.BuildConveyor(options, seed, info, sink);
 }
 
+// ---------------------------------------------------------------- stacking and crossing sequences
+cv::Vec3d CanSequence::TopCentreAt(int can, double t) const {
+  if (can < 0 || can >= static_cast<int>(start_point.size())) return cv::Vec3d(0, 0, 0);
+  const std::size_t k = static_cast<std::size_t>(can);
+  return start_point[k] + velocity_m_s[k] * t;
+}
+
+ellipsekit::Status ValidateCanSceneOptions(const CanSceneOptions& o) {
+  auto bad = [](const std::string& m) { return ellipsekit::Status(ellipsekit::StatusCode::kInvalidArgument, m); };
+  if (o.width < 64 || o.width > 8192 || o.height < 64 || o.height > 8192)
+    return bad("can scene image size must be 64..8192 px, got " + std::to_string(o.width) + "x" +
+               std::to_string(o.height));
+  if (!(o.fps > 0 && o.fps <= 10000)) return bad("can scene fps must be in (0, 10000]");
+  if (o.frames < 1 || o.frames > 999999) return bad("can scene frames must be 1..999999");
+  if (!(o.speed_m_s >= 0 && o.speed_m_s <= 10)) return bad("can scene speed_m_s must be in [0, 10]");
+  if (!(o.lane_gap_m >= 0 && o.lane_gap_m <= 1)) return bad("lane_gap_m must be in [0, 1]");
+  if (!(o.crossing_height_difference_m >= 0 && o.crossing_height_difference_m <= 0.5))
+    return bad("crossing_height_difference_m must be in [0, 0.5]");
+  if (!(o.min_radius_m >= 0.005 && o.min_radius_m <= o.max_radius_m && o.max_radius_m <= 0.5))
+    return bad("radius range must satisfy 0.005 <= min_radius_m <= max_radius_m <= 0.5");
+  if (!(o.min_height_m >= 0.02 && o.min_height_m <= o.max_height_m && o.max_height_m <= 1))
+    return bad("height range must satisfy 0.02 <= min_height_m <= max_height_m <= 1");
+  if (!(o.min_distance_m >= 0.1 && o.min_distance_m <= o.max_distance_m && o.max_distance_m <= 10))
+    return bad("distance range must satisfy 0.1 <= min_distance_m <= max_distance_m <= 10");
+  if (!(o.min_tilt_deg >= 10 && o.min_tilt_deg <= o.max_tilt_deg && o.max_tilt_deg <= 90))
+    return bad("tilt range must satisfy 10 <= min_tilt_deg <= max_tilt_deg <= 90");
+  if (o.clutter_shapes < 0 || o.clutter_shapes > 1000) return bad("clutter_shapes must be 0..1000");
+  if (!(o.noise_sigma >= 0 && o.noise_sigma <= 1000)) return bad("noise_sigma must be finite and >= 0");
+  if (!(o.blur_sigma >= 0 && o.blur_sigma <= 50)) return bad("blur_sigma must be 0..50");
+  if (!(o.depth_noise_mm >= 0 && o.depth_noise_mm <= 1000)) return bad("depth_noise_mm must be finite and >= 0");
+  if (!(o.depth_invalid_fraction >= 0 && o.depth_invalid_fraction <= 1))
+    return bad("depth_invalid_fraction must be in [0, 1]");
+  return ellipsekit::Status::Ok();
+}
+
+ellipsekit::Status RenderCanSequence(std::uint64_t seed, const CanSceneOptions& options, CanSequence* info,
+                                     const std::function<ellipsekit::Status(const CanFrame&)>& sink) {
+  if (ellipsekit::Status st = ValidateCanSceneOptions(options); !st.ok()) return st;
+  SceneOptions so;
+  so.width = options.width;
+  so.height = options.height;
+  so.min_tilt_deg = options.min_tilt_deg;
+  so.max_tilt_deg = options.max_tilt_deg;
+  so.min_objects = so.max_objects = 2;
+  so.occlusion = false;
+  so.clutter_shapes = options.clutter_shapes;
+  so.noise_sigma = options.noise_sigma;
+  so.blur_sigma = options.blur_sigma;
+  World world(so, seed);
+  return world.BuildCans(options, seed, info, sink);
+}
+
 namespace {
 
 ellipsekit::Status WriteTextFile(const std::filesystem::path& path, const std::string& text) {
@@ -1528,6 +1793,55 @@ ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t s
       ", \"pixel\": " + JsonList(seq.end_pixel.val, seq.end_pixel.val + 2, "%.17g") + "}]}\n";
   for (const auto& [name, text] : {std::pair<const char*, const std::string*>{"timestamps.txt", &times},
                                    {"camera.json", &camera}, {"conveyor.json", &conveyor}, {"truth.jsonl", &truth}}) {
+    if (Status s = WriteTextFile(root / name, *text); !s.ok()) return s;
+  }
+  if (info != nullptr) *info = seq;
+  return Status::Ok();
+}
+
+ellipsekit::Status WriteCanSequence(const std::string& dir, std::uint64_t seed, const CanSceneOptions& options,
+                                    CanSequence* info) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  if (dir.empty()) return Status(StatusCode::kInvalidArgument, "sequence directory is empty");
+  if (Status st = ValidateCanSceneOptions(options); !st.ok()) return st;
+  const std::filesystem::path root(dir), frames = root / "frames", depth = root / "depth";
+  for (const auto& d : {frames, depth}) {
+    std::error_code ec;
+    std::filesystem::create_directories(d, ec);
+    if (ec || !std::filesystem::is_directory(d, ec))
+      return Status(StatusCode::kInternal, "cannot create directory " + d.string() + ": " + ec.message());
+  }
+  std::string times, truth;
+  CanSequence seq;
+  Status st = RenderCanSequence(seed, options, &seq, [&](const CanFrame& fr) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", fr.index);
+    if (Status s = WritePng(frames / name, fr.gray); !s.ok()) return s;
+    if (Status s = WritePng(depth / name, fr.depth_mm); !s.ok()) return s;
+    times += Fmt("%.9g", fr.t) + "\n";
+    truth += "{\"t\": " + Fmt("%.9g", fr.t) + ", \"tops\": [";
+    for (std::size_t k = 0; k < fr.truth.size(); ++k) {
+      const ellipsekit::Ellipse& e = fr.truth[k];
+      const double el[5] = {e.cx, e.cy, e.a, e.b, e.theta};
+      if (k > 0) truth += ", ";
+      truth += "{\"centre\": " + JsonList(fr.top_centre[k].val, fr.top_centre[k].val + 3, "%.6f") +
+               ", \"pixel\": " + JsonList(fr.top_pixel[k].val, fr.top_pixel[k].val + 2, "%.4f") +
+               ", \"ellipse\": " + JsonList(el, el + 5, "%.6f") + ", \"rim_visible\": " +
+               Fmt("%.4f", fr.rim_visible[k]) + "}";
+    }
+    truth += "]}\n";
+    return Status::Ok();
+  });
+  if (!st.ok()) return st;
+  const double D[5] = {0, 0, 0, 0, 0};
+  const std::string camera = "{\"width\": " + std::to_string(seq.width) + ", \"height\": " + std::to_string(seq.height) +
+                             ", \"K\": " + JsonList(seq.K.val, seq.K.val + 9, "%.17g") +
+                             ", \"D\": " + JsonList(D, D + 5, "%.17g") +
+                             ", \"T_world_camera\": " + JsonList(seq.T_world_camera.val, seq.T_world_camera.val + 16, "%.17g") +
+                             "}\n";
+  for (const auto& [name, text] : {std::pair<const char*, const std::string*>{"timestamps.txt", &times},
+                                   {"camera.json", &camera}, {"truth.jsonl", &truth}}) {
     if (Status s = WriteTextFile(root / name, *text); !s.ok()) return s;
   }
   if (info != nullptr) *info = seq;

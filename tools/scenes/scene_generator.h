@@ -129,4 +129,75 @@ ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t s
                                          const ConveyorSceneOptions& options = {},
                                          ConveyorSequence* info = nullptr);
 
+// ---------------------------------------------------------------- stacking and crossing sequences
+// Two cans in the conveyor world (same camera model, light, table and flat clutter; no boxes), for
+// the stacking task and the tracker:
+//  - static (speed_m_s == 0): the cans stand still, can 0 on the feed side (right half of the image)
+//    and can 1 on the stack side (left half); every frame is the same rendering with independent
+//    image noise and depth noise;
+//  - crossing (speed_m_s > 0): the cans ride two parallel lanes roughly along the image rows, in
+//    opposite directions, and pass each other at mid-sequence. The lanes are r0 + r1 + lane_gap_m
+//    apart (the cans clear each other by lane_gap_m); can 0 rides the lane nearer the camera. With
+//    crossing_height_difference_m > 0 can 0 is that much taller, so near the crossing its top
+//    rises into the image of can 1's top and hides part of it.
+// The camera's distance to the tops (along the optical axis, at the image centre) is drawn from
+// [min_distance_m, max_distance_m]; the tilt from [min_tilt_deg, max_tilt_deg]. Depth as in the
+// conveyor sequences.
+struct CanSceneOptions {
+  int width = 640, height = 480;
+  double fps = 30;
+  int frames = 20;
+  double speed_m_s = 0;             // 0: static; > 0: crossing
+  double lane_gap_m = 0.01;         // crossing: clearance between the cans when they pass
+  double crossing_height_difference_m = 0;  // crossing: can 0 (near lane) is taller by this much
+  double min_radius_m = 0.03, max_radius_m = 0.04;
+  double min_height_m = 0.08, max_height_m = 0.12;
+  double min_distance_m = 0.5, max_distance_m = 1.0;
+  double min_tilt_deg = 45, max_tilt_deg = 65;
+  int clutter_shapes = 5;
+  double noise_sigma = 3.0, blur_sigma = 0.8;
+  double depth_noise_mm = 1.0;
+  double depth_invalid_fraction = 0.01;
+};
+
+struct CanFrame {
+  int index = 0;
+  double t = 0;
+  cv::Mat gray;                            // CV_8UC1
+  cv::Mat depth_mm;                        // CV_16UC1, millimetres along the camera z axis, 0 = invalid
+  std::vector<cv::Vec3d> top_centre;       // per can: true top centre, world metres
+  std::vector<cv::Vec2d> top_pixel;        // its projection
+  std::vector<ellipsekit::Ellipse> truth;  // exact image ellipse of each top rim
+  std::vector<double> rim_visible;         // share of each top rim not hidden by the other can
+};
+
+struct CanSequence {
+  int width = 0, height = 0;
+  cv::Matx33d K;                  // pinhole, no distortion
+  cv::Matx44d T_world_camera;     // world = T * camera
+  double fps = 30;
+  int frames = 0;
+  std::vector<double> radius_m, height_m;   // per can
+  // Per can: the lid's rim ring is rim_width_m wide (0 without one); the top's image then has
+  // edges at radius_m, radius_m - rim_width_m and (the countersink groove) 2 mm further in.
+  std::vector<double> rim_width_m;
+  std::vector<cv::Vec3d> start_point;       // top centre at t = 0, world metres
+  std::vector<cv::Vec3d> velocity_m_s;      // world; zero for a static scene
+
+  cv::Vec3d TopCentreAt(int can, double t) const;
+};
+
+// Ok, or kInvalidArgument naming the bad field.
+ellipsekit::Status ValidateCanSceneOptions(const CanSceneOptions& options);
+
+// Renders the sequence frame by frame (see RenderConveyorSequence). Fails with kInternal when the
+// cans cannot be placed in view (image too small, crossing too long for the image).
+ellipsekit::Status RenderCanSequence(std::uint64_t seed, const CanSceneOptions& options, CanSequence* info,
+                                     const std::function<ellipsekit::Status(const CanFrame&)>& sink);
+
+// Writes a sequence directory as WriteConveyorSequence does (frames/, depth/, timestamps.txt,
+// camera.json, truth.jsonl with one entry per can in "tops"; no conveyor.json).
+ellipsekit::Status WriteCanSequence(const std::string& dir, std::uint64_t seed, const CanSceneOptions& options = {},
+                                    CanSequence* info = nullptr);
+
 }  // namespace ellipsekit::scenes

@@ -4,7 +4,8 @@
 // frame timestamps) and smooths the semi-axes. A frame's detections are gated against every track
 // by centre distance to the predicted centre (pixels, widened by the predicted uncertainty) and by
 // axis similarity (relative difference of a and of b), then assigned optimally (Hungarian).
-// Unassigned detections start tentative tracks; a track is confirmed after `confirm_hits` hits,
+// Unassigned detections start tentative tracks, except where they overlap an established track
+// (a merge of two tops, or a weaker second contour of one; see Update); a track is confirmed after `confirm_hits` hits,
 // becomes lost when missed, and is deleted after `max_lost_s` without a hit (tentative: at once).
 #pragma once
 
@@ -66,6 +67,7 @@ class EllipseTracker {
   struct Internal {
     ConstantVelocityKalman kf;
     double a, b;
+    double score;  // smoothed detector score of the track's detections (same weight as the axes)
   };
   TrackerOptions options_;
   std::vector<Track> tracks_;
