@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <functional>
 #include <string>
 #include <utility>
@@ -1750,6 +1751,39 @@ std::string JsonList(It begin, It end, const char* fmt) {
 
 }  // namespace
 
+namespace {
+
+// The folders of a sequence directory (frames/, depth/), created with their parents.
+ellipsekit::Status CreateDirectories(std::initializer_list<std::filesystem::path> dirs) {
+  for (const auto& d : dirs) {
+    std::error_code ec;
+    std::filesystem::create_directories(d, ec);
+    if (ec || !std::filesystem::is_directory(d, ec))
+      return ellipsekit::Status(ellipsekit::StatusCode::kInternal,
+                                "cannot create directory " + d.string() + ": " + ec.message());
+  }
+  return ellipsekit::Status::Ok();
+}
+
+// frames/NNNNNN.png (8-bit gray) and depth/NNNNNN.png (uint16 mm) of frame `index`.
+ellipsekit::Status WriteFrameImages(const std::filesystem::path& frames, const std::filesystem::path& depth,
+                                    int index, const cv::Mat& gray, const cv::Mat& depth_mm) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%06d.png", index);
+  if (ellipsekit::Status s = WritePng(frames / name, gray); !s.ok()) return s;
+  return WritePng(depth / name, depth_mm);
+}
+
+// camera.json of a sequence (README "Sequences"): rendered frames have no lens distortion.
+std::string CameraJson(int width, int height, const cv::Matx33d& K, const cv::Matx44d& T_world_camera) {
+  const double D[5] = {0, 0, 0, 0, 0};
+  return "{\"width\": " + std::to_string(width) + ", \"height\": " + std::to_string(height) +
+         ", \"K\": " + JsonList(K.val, K.val + 9, "%.17g") + ", \"D\": " + JsonList(D, D + 5, "%.17g") +
+         ", \"T_world_camera\": " + JsonList(T_world_camera.val, T_world_camera.val + 16, "%.17g") + "}\n";
+}
+
+}  // namespace
+
 ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t seed,
                                          const ConveyorSceneOptions& options, ConveyorSequence* info) {
   using ellipsekit::Status;
@@ -1758,19 +1792,11 @@ ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t s
   if (Status st = ValidateConveyorOptions(options); !st.ok()) return st;
   if (options.frames > 999999) return Status(StatusCode::kInvalidArgument, "at most 999999 frames (6-digit names)");
   const std::filesystem::path root(dir), frames = root / "frames", depth = root / "depth";
-  for (const auto& d : {frames, depth}) {
-    std::error_code ec;
-    std::filesystem::create_directories(d, ec);
-    if (ec || !std::filesystem::is_directory(d, ec))
-      return Status(StatusCode::kInternal, "cannot create directory " + d.string() + ": " + ec.message());
-  }
+  if (Status st = CreateDirectories({frames, depth}); !st.ok()) return st;
   std::string times, truth;
   ConveyorSequence seq;
   Status st = RenderConveyorSequence(seed, options, &seq, [&](const ConveyorFrame& fr) {
-    char name[32];
-    std::snprintf(name, sizeof name, "%06d.png", fr.index);
-    if (Status s = WritePng(frames / name, fr.gray); !s.ok()) return s;
-    if (Status s = WritePng(depth / name, fr.depth_mm); !s.ok()) return s;
+    if (Status s = WriteFrameImages(frames, depth, fr.index, fr.gray, fr.depth_mm); !s.ok()) return s;
     times += Fmt("%.9g", fr.t) + "\n";
     const double el[5] = {fr.truth.cx, fr.truth.cy, fr.truth.a, fr.truth.b, fr.truth.theta};
     truth += "{\"t\": " + Fmt("%.9g", fr.t) + ", \"tops\": [{\"centre\": " +
@@ -1780,12 +1806,7 @@ ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t s
     return Status::Ok();
   });
   if (!st.ok()) return st;
-  const double D[5] = {0, 0, 0, 0, 0};
-  const std::string camera = "{\"width\": " + std::to_string(seq.width) + ", \"height\": " + std::to_string(seq.height) +
-                             ", \"K\": " + JsonList(seq.K.val, seq.K.val + 9, "%.17g") +
-                             ", \"D\": " + JsonList(D, D + 5, "%.17g") +
-                             ", \"T_world_camera\": " + JsonList(seq.T_world_camera.val, seq.T_world_camera.val + 16, "%.17g") +
-                             "}\n";
+  const std::string camera = CameraJson(seq.width, seq.height, seq.K, seq.T_world_camera);
   const std::string conveyor =
       "{\"references\": [{\"point\": " + JsonList(seq.start_point.val, seq.start_point.val + 3, "%.17g") +
       ", \"pixel\": " + JsonList(seq.start_pixel.val, seq.start_pixel.val + 2, "%.17g") + "}, {\"point\": " +
@@ -1806,19 +1827,11 @@ ellipsekit::Status WriteCanSequence(const std::string& dir, std::uint64_t seed, 
   if (dir.empty()) return Status(StatusCode::kInvalidArgument, "sequence directory is empty");
   if (Status st = ValidateCanSceneOptions(options); !st.ok()) return st;
   const std::filesystem::path root(dir), frames = root / "frames", depth = root / "depth";
-  for (const auto& d : {frames, depth}) {
-    std::error_code ec;
-    std::filesystem::create_directories(d, ec);
-    if (ec || !std::filesystem::is_directory(d, ec))
-      return Status(StatusCode::kInternal, "cannot create directory " + d.string() + ": " + ec.message());
-  }
+  if (Status st = CreateDirectories({frames, depth}); !st.ok()) return st;
   std::string times, truth;
   CanSequence seq;
   Status st = RenderCanSequence(seed, options, &seq, [&](const CanFrame& fr) {
-    char name[32];
-    std::snprintf(name, sizeof name, "%06d.png", fr.index);
-    if (Status s = WritePng(frames / name, fr.gray); !s.ok()) return s;
-    if (Status s = WritePng(depth / name, fr.depth_mm); !s.ok()) return s;
+    if (Status s = WriteFrameImages(frames, depth, fr.index, fr.gray, fr.depth_mm); !s.ok()) return s;
     times += Fmt("%.9g", fr.t) + "\n";
     truth += "{\"t\": " + Fmt("%.9g", fr.t) + ", \"tops\": [";
     for (std::size_t k = 0; k < fr.truth.size(); ++k) {
@@ -1834,12 +1847,7 @@ ellipsekit::Status WriteCanSequence(const std::string& dir, std::uint64_t seed, 
     return Status::Ok();
   });
   if (!st.ok()) return st;
-  const double D[5] = {0, 0, 0, 0, 0};
-  const std::string camera = "{\"width\": " + std::to_string(seq.width) + ", \"height\": " + std::to_string(seq.height) +
-                             ", \"K\": " + JsonList(seq.K.val, seq.K.val + 9, "%.17g") +
-                             ", \"D\": " + JsonList(D, D + 5, "%.17g") +
-                             ", \"T_world_camera\": " + JsonList(seq.T_world_camera.val, seq.T_world_camera.val + 16, "%.17g") +
-                             "}\n";
+  const std::string camera = CameraJson(seq.width, seq.height, seq.K, seq.T_world_camera);
   for (const auto& [name, text] : {std::pair<const char*, const std::string*>{"timestamps.txt", &times},
                                    {"camera.json", &camera}, {"truth.jsonl", &truth}}) {
     if (Status s = WriteTextFile(root / name, *text); !s.ok()) return s;
