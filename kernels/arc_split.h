@@ -9,7 +9,9 @@
 //   turning      |theta_{k+1} - theta_k| > T_theta, tested exactly on w = z_{k+1} * conj(z_k)
 //                (arg w = theta_{k+1} - theta_k when the signs agree):
 //                  Re w <= 0  or  2^16 * |Im w| > tan_q16 * Re w,   tan_q16 = round(2^16 tan T_theta)
-//                (|Re w|, |Im w| < 2^43, so both sides fit int64; T_theta must lie in (0, 90) deg)
+//                (|Re w|, |Im w| < 2^43; with T_theta in (0, 60] deg, as Options allows,
+//                tan_q16 <= 113512 < 2^17, so both sides stay below 2^60 and fit int64 — a
+//                larger angle overflows: SplitTanQ16's callers must keep to that range)
 //                -> split at whichever of v_k, v_{k+1} turns more (|theta| compared exactly by
 //                   the cross product of (Re z, |Im z|))
 // No floating point is involved, so every backend makes identical decisions.

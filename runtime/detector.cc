@@ -259,9 +259,11 @@ Detector::Detector(const Options& options) : impl_(std::make_unique<Impl>()) {
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   if (impl_->status.ok() && options.backend == Backend::kVulkan) {
     impl_->status = VulkanEdgeStage::Create(&impl_->vulkan);
-    // The arc stage follows it onto the device when the device has shaderInt64; otherwise (the
-    // reason is VulkanArcStage::Create's status) the arcs stay on the CPU table.
-    if (impl_->status.ok() && !VulkanArcStage::Create(&impl_->vulkan_arcs).ok()) impl_->vulkan_arcs.reset();
+    // The arc stage follows it onto the same device (sharing its context: one instance and device
+    // per Detector) when the device has shaderInt64; otherwise (the reason is
+    // VulkanArcStage::Create's status) the arcs stay on the CPU table.
+    if (impl_->status.ok() && !VulkanArcStage::Create(&impl_->vulkan_arcs, impl_->vulkan->context()).ok())
+      impl_->vulkan_arcs.reset();
   }
 #endif
 }

@@ -32,18 +32,21 @@ constexpr std::uint32_t kMaxGroups = 65535;  // guaranteed maxComputeWorkGroupCo
 constexpr std::int64_t kMinPoints = 4096, kMinCurves = 256;  // smallest capacities
 constexpr std::uint32_t kStateWords = 16;    // per curve (the shaders' kStateWords)
 
-Status VkFail(const char* what, VkResult r) {
-  return {StatusCode::kInternal, std::string(what) + " failed: " + VkResultName(r)};
-}
-
 std::uint32_t CeilDiv(std::uint64_t a, std::uint64_t b) { return static_cast<std::uint32_t>((a + b - 1) / b); }
 
 }  // namespace
 
-Status VulkanArcStage::Create(std::unique_ptr<VulkanArcStage>* out) {
+Status VulkanArcStage::Create(std::unique_ptr<VulkanArcStage>* out, std::shared_ptr<VulkanContext> ctx) {
   std::unique_ptr<VulkanArcStage> stage(new VulkanArcStage());
-  Status st = VulkanContext::Create(&stage->ctx_);
-  if (!st.ok()) return st;
+  Status st = Status::Ok();
+  if (ctx) {
+    stage->ctx_ = std::move(ctx);
+  } else {
+    std::unique_ptr<VulkanContext> own;
+    st = VulkanContext::Create(&own);
+    if (!st.ok()) return st;
+    stage->ctx_ = std::move(own);
+  }
   const char* disable = std::getenv("ELLIPSEKIT_VK_DISABLE_INT64");
   const bool disabled = disable != nullptr && std::string(disable) == "1";
   if (!stage->ctx_->shader_int64() || disabled) {
@@ -58,107 +61,9 @@ Status VulkanArcStage::Create(std::unique_ptr<VulkanArcStage>* out) {
 }
 
 Status VulkanArcStage::Init() {
-  const VulkanFunctions& vk = ctx_->vk();
-  VkDevice dev = ctx_->device();
-
-  VkDescriptorSetLayoutBinding bindings[kNumBindings];
-  for (int b = 0; b < kNumBindings; ++b) {
-    bindings[b] = VkDescriptorSetLayoutBinding{};
-    bindings[b].binding = static_cast<std::uint32_t>(b);
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  VkDescriptorSetLayoutCreateInfo dslci{};
-  dslci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  dslci.bindingCount = kNumBindings;
-  dslci.pBindings = bindings;
-  VkResult r = vk.vkCreateDescriptorSetLayout(dev, &dslci, nullptr, &set_layout_);
-  if (r != VK_SUCCESS) return VkFail("vkCreateDescriptorSetLayout", r);
-
-  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push_)};
-  VkPipelineLayoutCreateInfo plci{};
-  plci.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  plci.setLayoutCount = 1;
-  plci.pSetLayouts = &set_layout_;
-  plci.pushConstantRangeCount = 1;
-  plci.pPushConstantRanges = &range;
-  r = vk.vkCreatePipelineLayout(dev, &plci, nullptr, &pipeline_layout_);
-  if (r != VK_SUCCESS) return VkFail("vkCreatePipelineLayout", r);
-
-  struct Source {
-    const std::uint32_t* code;
-    std::size_t bytes;
-  };
-  const Source sources[kNumPipelines] = {{kPolylineSpv, sizeof(kPolylineSpv)},
-                                         {kArcSplitSpv, sizeof(kArcSplitSpv)},
-                                         {kArcStatsSpv, sizeof(kArcStatsSpv)}};
-  for (int p = 0; p < kNumPipelines; ++p) {
-    VkShaderModuleCreateInfo smci{};
-    smci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
-    smci.codeSize = sources[p].bytes;
-    smci.pCode = sources[p].code;
-    VkShaderModule module;
-    r = vk.vkCreateShaderModule(dev, &smci, nullptr, &module);
-    if (r != VK_SUCCESS) return VkFail("vkCreateShaderModule", r);
-    VkComputePipelineCreateInfo cpci{};
-    cpci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-    cpci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cpci.stage.module = module;
-    cpci.stage.pName = "main";
-    cpci.layout = pipeline_layout_;
-    r = vk.vkCreateComputePipelines(dev, ctx_->pipeline_cache(), 1, &cpci, nullptr, &pipelines_[p]);
-    vk.vkDestroyShaderModule(dev, module, nullptr);
-    if (r != VK_SUCCESS) return VkFail("vkCreateComputePipelines", r);
-  }
-
-  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kNumBindings};
-  VkDescriptorPoolCreateInfo dpci{};
-  dpci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-  dpci.maxSets = 1;
-  dpci.poolSizeCount = 1;
-  dpci.pPoolSizes = &pool_size;
-  r = vk.vkCreateDescriptorPool(dev, &dpci, nullptr, &descriptor_pool_);
-  if (r != VK_SUCCESS) return VkFail("vkCreateDescriptorPool", r);
-  VkDescriptorSetAllocateInfo dsai{};
-  dsai.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  dsai.descriptorPool = descriptor_pool_;
-  dsai.descriptorSetCount = 1;
-  dsai.pSetLayouts = &set_layout_;
-  r = vk.vkAllocateDescriptorSets(dev, &dsai, &set_);
-  if (r != VK_SUCCESS) return VkFail("vkAllocateDescriptorSets", r);
-
-  VkCommandPoolCreateInfo cpi{};
-  cpi.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  cpi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  cpi.queueFamilyIndex = ctx_->queue_family();
-  r = vk.vkCreateCommandPool(dev, &cpi, nullptr, &command_pool_);
-  if (r != VK_SUCCESS) return VkFail("vkCreateCommandPool", r);
-  VkCommandBufferAllocateInfo cbai{};
-  cbai.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cbai.commandPool = command_pool_;
-  cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cbai.commandBufferCount = 2;
-  VkCommandBuffer cbs[2];
-  r = vk.vkAllocateCommandBuffers(dev, &cbai, cbs);
-  if (r != VK_SUCCESS) return VkFail("vkAllocateCommandBuffers", r);
-  cb_ = cbs[0];
-  more_rounds_cb_ = cbs[1];
-
-  VkFenceCreateInfo fci{};
-  fci.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-  r = vk.vkCreateFence(dev, &fci, nullptr, &fence_);
-  if (r != VK_SUCCESS) return VkFail("vkCreateFence", r);
-  if (ctx_->timestamp_valid_bits() != 0) {
-    VkQueryPoolCreateInfo qpci{};
-    qpci.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
-    qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    qpci.queryCount = 2;
-    r = vk.vkCreateQueryPool(dev, &qpci, nullptr, &query_pool_);
-    if (r != VK_SUCCESS) return VkFail("vkCreateQueryPool", r);
-  }
-  return Status::Ok();
+  const VulkanProgram::Shader shaders[kNumPipelines] = {
+      {kPolylineSpv, sizeof(kPolylineSpv)}, {kArcSplitSpv, sizeof(kArcSplitSpv)}, {kArcStatsSpv, sizeof(kArcStatsSpv)}};
+  return program_.Create(ctx_.get(), kNumBindings, sizeof(push_), shaders, kNumPipelines);
 }
 
 void VulkanArcStage::ReleaseBuffers() {
@@ -170,18 +75,9 @@ void VulkanArcStage::ReleaseBuffers() {
 
 VulkanArcStage::~VulkanArcStage() {
   if (!ctx_) return;
-  const VulkanFunctions& vk = ctx_->vk();
-  VkDevice dev = ctx_->device();
-  vk.vkDeviceWaitIdle(dev);
+  ctx_->vk().vkDeviceWaitIdle(ctx_->device());
   ReleaseBuffers();
-  if (query_pool_ != VK_NULL_HANDLE) vk.vkDestroyQueryPool(dev, query_pool_, nullptr);
-  if (fence_ != VK_NULL_HANDLE) vk.vkDestroyFence(dev, fence_, nullptr);
-  if (command_pool_ != VK_NULL_HANDLE) vk.vkDestroyCommandPool(dev, command_pool_, nullptr);
-  if (descriptor_pool_ != VK_NULL_HANDLE) vk.vkDestroyDescriptorPool(dev, descriptor_pool_, nullptr);
-  for (VkPipeline p : pipelines_)
-    if (p != VK_NULL_HANDLE) vk.vkDestroyPipeline(dev, p, nullptr);
-  if (pipeline_layout_ != VK_NULL_HANDLE) vk.vkDestroyPipelineLayout(dev, pipeline_layout_, nullptr);
-  if (set_layout_ != VK_NULL_HANDLE) vk.vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+  // program_ releases its objects next, then ctx_ (if no other stage shares it).
 }
 
 // Capacities: the next power of two of the need (at least kMinPoints / kMinCurves), cut back to what
@@ -213,19 +109,7 @@ Status VulkanArcStage::Reserve(std::int64_t points, std::int64_t curves) {
   st = ctx_->CreateBuffer(4 * (3 * c + (2 + kNumArcFields) * p), true, &download_);
   if (!st.ok()) return st;
 
-  VkDescriptorBufferInfo infos[kNumBindings];
-  VkWriteDescriptorSet writes[kNumBindings];
-  for (int b = 0; b < kNumBindings; ++b) {
-    infos[b] = VkDescriptorBufferInfo{buffers_[b].buffer, 0, VK_WHOLE_SIZE};
-    writes[b] = VkWriteDescriptorSet{};
-    writes[b].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-    writes[b].dstSet = set_;
-    writes[b].dstBinding = static_cast<std::uint32_t>(b);
-    writes[b].descriptorCount = 1;
-    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[b].pBufferInfo = &infos[b];
-  }
-  ctx_->vk().vkUpdateDescriptorSets(ctx_->device(), kNumBindings, writes, 0, nullptr);
+  program_.BindBuffers(buffers_);
   order_.resize(static_cast<std::size_t>(cap_c));
   cap_points_ = cap_p;
   cap_curves_ = cap_c;
@@ -234,22 +118,9 @@ Status VulkanArcStage::Reserve(std::int64_t points, std::int64_t curves) {
 
 // One invocation per curve, spread over a 2-D grid: invocation = gid.y * (groups.x * kGroup) + gid.x.
 void VulkanArcStage::Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t curves) {
-  const VulkanFunctions& vk = ctx_->vk();
   const std::uint32_t groups = CeilDiv(curves, kGroup);
   const std::uint32_t gx = std::min(groups, kMaxGroups);
-  vk.vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_[p]);
-  vk.vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &set_, 0, nullptr);
-  vk.vkCmdPushConstants(cb, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push_), push_);
-  vk.vkCmdDispatch(cb, gx, CeilDiv(groups, gx), 1);
-}
-
-void VulkanArcStage::Barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access,
-                             VkPipelineStageFlags dst, VkAccessFlags dst_access) {
-  VkMemoryBarrier mb{};
-  mb.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  mb.srcAccessMask = src_access;
-  mb.dstAccessMask = dst_access;
-  ctx_->vk().vkCmdPipelineBarrier(cb, src, dst, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  program_.Dispatch(cb, p, sizeof(push_), push_, gx, CeilDiv(groups, gx));
 }
 
 // Pending flags cleared; kRoundsPerSubmit x (polyline, arc_split, arc_stats) with a barrier after
@@ -261,48 +132,33 @@ void VulkanArcStage::RecordRoundsAndDownload(VkCommandBuffer cb) {
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
   constexpr VkAccessFlags kRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
   vk.vkCmdFillBuffer(cb, buffers_[kPending].buffer, 0, 4 * kRoundsPerSubmit, 0u);
-  Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
+  program_.Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
   const std::uint32_t nc = push_[0];
   for (int round = 0; round < kRoundsPerSubmit; ++round) {
     push_[6] = static_cast<std::uint32_t>(round);
     for (Pipeline p : {kPolyline, kArcSplit, kArcStats}) {
       Dispatch(cb, p, nc);
-      Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
+      program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
     }
   }
-  Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
+  program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
   const VkDeviceSize c = nc, p = push_[1];
   const VkBufferCopy downs[4] = {{0, 0, 12 * c}, {0, 12 * c, 4 * p}, {0, 12 * c + 4 * p, 4 * p},
                                  {0, 12 * c + 8 * p, 4 * kNumArcFields * p}};
   const Binding down_src[4] = {kCounts, kVertex, kSplit, kArcs};
   for (int i = 0; i < 4; ++i) vk.vkCmdCopyBuffer(cb, buffers_[down_src[i]].buffer, download_.buffer, 1, &downs[i]);
-  Barrier(cb, kTransfer | kCompute, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+  program_.Barrier(cb, kTransfer | kCompute, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
           VK_ACCESS_HOST_READ_BIT);
-  if (query_pool_ != VK_NULL_HANDLE) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, 1);
+  if (program_.query_pool() != VK_NULL_HANDLE) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, program_.query_pool(), 1);
 }
 
 // Ends, submits and waits for `cb`; adds its device time to *device_ms.
 Status VulkanArcStage::Submit(VkCommandBuffer cb, double* device_ms) {
-  const VulkanFunctions& vk = ctx_->vk();
-  VkResult r = vk.vkEndCommandBuffer(cb);
-  if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
-  VkSubmitInfo si{};
-  si.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cb;
-  r = vk.vkQueueSubmit(ctx_->queue(), 1, &si, fence_);
-  if (r != VK_SUCCESS) return VkFail("vkQueueSubmit", r);
-  r = vk.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, UINT64_MAX);
-  vk.vkResetFences(ctx_->device(), 1, &fence_);
-  if (r != VK_SUCCESS) return VkFail("vkWaitForFences", r);
-  if (query_pool_ != VK_NULL_HANDLE) {
-    std::uint64_t ts[2] = {0, 0};
-    if (vk.vkGetQueryPoolResults(ctx_->device(), query_pool_, 0, 2, sizeof(ts), ts, sizeof(std::uint64_t),
-                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
-      const std::uint64_t mask = ctx_->timestamp_valid_bits() >= 64 ? ~0ull : ((1ull << ctx_->timestamp_valid_bits()) - 1);
-      *device_ms += static_cast<double>((ts[1] - ts[0]) & mask) * ctx_->timestamp_period_ns() * 1e-6;
-    }
-  }
+  const VkResult r = ctx_->vk().vkEndCommandBuffer(cb);
+  if (r != VK_SUCCESS) return VulkanFailure("vkEndCommandBuffer", r);
+  Status st = program_.SubmitAndWait(cb);
+  if (!st.ok()) return st;
+  program_.AddDeviceMs(device_ms);
   return Status::Ok();
 }
 
@@ -364,23 +220,24 @@ Status VulkanArcStage::Run(const Curves& curves, std::int32_t tol_q16, std::int6
   VkCommandBufferBeginInfo begin{};
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  vk.vkResetCommandBuffer(cb_, 0);
-  vk.vkBeginCommandBuffer(cb_, &begin);
-  if (query_pool_ != VK_NULL_HANDLE) {
-    vk.vkCmdResetQueryPool(cb_, query_pool_, 0, 2);
-    vk.vkCmdWriteTimestamp(cb_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool_, 0);
+  const VkCommandBuffer cb = program_.command_buffer(0), more_rounds_cb = program_.command_buffer(1);
+  vk.vkResetCommandBuffer(cb, 0);
+  vk.vkBeginCommandBuffer(cb, &begin);
+  if (program_.query_pool() != VK_NULL_HANDLE) {
+    vk.vkCmdResetQueryPool(cb, program_.query_pool(), 0, 2);
+    vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, program_.query_pool(), 0);
   }
   // Upload, and every curve to phase 0 (not started). The previous Run's reads are done (fence),
   // so no WAR barrier is needed.
   const VkBufferCopy ups[6] = {{0, 0, 4 * p}, {4 * p, 0, 4 * p}, {8 * p, 0, 4 * p}, {12 * p, 0, 4 * (c + 1)},
                                {4 * (3 * p + c + 1), 0, 4 * c}, {4 * (3 * p + 2 * c + 1), 0, 4 * c}};
   const Binding up_dst[6] = {kX, kY, kG, kOffset, kSignClass, kOrder};
-  for (int i = 0; i < 6; ++i) vk.vkCmdCopyBuffer(cb_, upload_.buffer, buffers_[up_dst[i]].buffer, 1, &ups[i]);
-  vk.vkCmdFillBuffer(cb_, buffers_[kState].buffer, 0, 4 * kStateWords * c, 0u);
-  Barrier(cb_, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
-  RecordRoundsAndDownload(cb_);
+  for (int i = 0; i < 6; ++i) vk.vkCmdCopyBuffer(cb, upload_.buffer, buffers_[up_dst[i]].buffer, 1, &ups[i]);
+  vk.vkCmdFillBuffer(cb, buffers_[kState].buffer, 0, 4 * kStateWords * c, 0u);
+  program_.Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
+  RecordRoundsAndDownload(cb);
   double device_ms = 0;
-  st = Submit(cb_, &device_ms);
+  st = Submit(cb, &device_ms);
   if (!st.ok()) return st;
 
   // More rounds while a curve is pending. Each round advances every pending curve by
@@ -394,17 +251,17 @@ Status VulkanArcStage::Run(const Curves& curves, std::int32_t tol_q16, std::int6
     last_rounds_ = static_cast<int>(rounds);
     if (pending[kRoundsPerSubmit - 1] == 0) break;
     if (rounds >= max_rounds) return {StatusCode::kInternal, "Vulkan arc stage did not finish within its step bound"};
-    vk.vkResetCommandBuffer(more_rounds_cb_, 0);
-    vk.vkBeginCommandBuffer(more_rounds_cb_, &begin);
-    if (query_pool_ != VK_NULL_HANDLE) {
-      vk.vkCmdResetQueryPool(more_rounds_cb_, query_pool_, 0, 2);
-      vk.vkCmdWriteTimestamp(more_rounds_cb_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool_, 0);
+    vk.vkResetCommandBuffer(more_rounds_cb, 0);
+    vk.vkBeginCommandBuffer(more_rounds_cb, &begin);
+    if (program_.query_pool() != VK_NULL_HANDLE) {
+      vk.vkCmdResetQueryPool(more_rounds_cb, program_.query_pool(), 0, 2);
+      vk.vkCmdWriteTimestamp(more_rounds_cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, program_.query_pool(), 0);
     }
-    RecordRoundsAndDownload(more_rounds_cb_);
-    st = Submit(more_rounds_cb_, &device_ms);
+    RecordRoundsAndDownload(more_rounds_cb);
+    st = Submit(more_rounds_cb, &device_ms);
     if (!st.ok()) return st;
   }
-  last_device_ms_ = query_pool_ != VK_NULL_HANDLE ? device_ms : -1;
+  last_device_ms_ = program_.query_pool() != VK_NULL_HANDLE ? device_ms : -1;
 
   ctx_->InvalidateForHostReads(download_);
   const auto t0 = std::chrono::steady_clock::now();

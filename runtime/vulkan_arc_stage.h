@@ -47,6 +47,7 @@
 #include "kernels/arc_types.h"
 #include "kernels/polyline.h"
 #include "runtime/vulkan_context.h"
+#include "runtime/vulkan_program.h"
 
 namespace ellipsekit {
 
@@ -57,8 +58,10 @@ class VulkanArcStage {
 
   // kUnavailable with the reason when there is no Vulkan loader or usable device, or the device
   // lacks shaderInt64. ELLIPSEKIT_VK_DISABLE_INT64=1 makes it answer as if the device lacked it
-  // (to test the fallback on machines whose device has it).
-  static Status Create(std::unique_ptr<VulkanArcStage>* out);
+  // (to test the fallback on machines whose device has it). With `ctx` (e.g. the edge stage's
+  // context()), the stage runs on that instance/device and shares ownership of it; without, it
+  // opens its own. Either way the same thread must drive every stage of one context.
+  static Status Create(std::unique_ptr<VulkanArcStage>* out, std::shared_ptr<VulkanContext> ctx = nullptr);
   ~VulkanArcStage();
   VulkanArcStage(const VulkanArcStage&) = delete;
   VulkanArcStage& operator=(const VulkanArcStage&) = delete;
@@ -90,20 +93,12 @@ class VulkanArcStage {
   void Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t curves);
   void RecordRoundsAndDownload(VkCommandBuffer cb);
   Status Submit(VkCommandBuffer cb, double* device_ms);
-  void Barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
-               VkAccessFlags dst_access);
   Status Compact(const Curves& curves, Polylines* polylines, Splits* splits, std::vector<ArcStats>* stats);
 
-  std::unique_ptr<VulkanContext> ctx_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-  VkPipeline pipelines_[kNumPipelines] = {};
-  VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
-  VkCommandPool command_pool_ = VK_NULL_HANDLE;
-  VkCommandBuffer cb_ = VK_NULL_HANDLE, more_rounds_cb_ = VK_NULL_HANDLE;
-  VkFence fence_ = VK_NULL_HANDLE;
-  VkQueryPool query_pool_ = VK_NULL_HANDLE;
+  std::shared_ptr<VulkanContext> ctx_;
+  // Layouts, pipelines (indexed by Pipeline), the set, command buffers 0 (first submit) and 1
+  // (more rounds), fence, timestamps. Declared after ctx_, so it is released before it.
+  VulkanProgram program_;
 
   // Bindings 0..11: x, y, g (gx | gy << 16), offset, sign_class, stack, vertex slots, split slots,
   // arc slots (17 planes of `points` words), counts (3 planes of `curves` words), per-curve state

@@ -31,6 +31,7 @@
 #include "ellipsekit/options.h"
 #include "ellipsekit/types.h"
 #include "runtime/vulkan_context.h"
+#include "runtime/vulkan_program.h"
 
 namespace ellipsekit {
 
@@ -57,6 +58,8 @@ class VulkanEdgeStage {
   // Hysteresis dispatches the last Run recorded (multiples of kRoundsPerSubmit).
   int last_hysteresis_rounds() const { return last_rounds_; }
   const std::string& device_name() const { return ctx_->device_name(); }
+  // The stage's Vulkan context, for another stage to share (VulkanArcStage::Create).
+  const std::shared_ptr<VulkanContext>& context() const { return ctx_; }
 
  private:
   // kSobel reads the Gaussian output, kSobelRaw the frame (sobel.comp, FROM_BLURRED = 1 / 0).
@@ -69,21 +72,13 @@ class VulkanEdgeStage {
   void ReleaseFrameBuffers();
   void Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t gx, std::uint32_t gy, const std::uint32_t* push);
   void Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t groups, const std::uint32_t* push);
-  void Barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
-               VkAccessFlags dst_access);
   void RecordHysteresisAndOutput(VkCommandBuffer cb);
   Status Submit(VkCommandBuffer cb);
 
-  std::unique_ptr<VulkanContext> ctx_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-  VkPipeline pipelines_[kNumPipelines] = {};
-  VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
-  VkCommandPool command_pool_ = VK_NULL_HANDLE;
-  VkCommandBuffer frame_cb_ = VK_NULL_HANDLE, more_rounds_cb_ = VK_NULL_HANDLE;
-  VkFence fence_ = VK_NULL_HANDLE;
-  VkQueryPool query_pool_ = VK_NULL_HANDLE;
+  std::shared_ptr<VulkanContext> ctx_;
+  // Layouts, pipelines (indexed by Pipeline), the set, command buffers 0 (frame) and 1 (more
+  // hysteresis rounds), fence, timestamps. Declared after ctx_, so it is released before it.
+  VulkanProgram program_;
 
   // Bindings 0..8: image (packed u8), blurred, dx (packed i16), dy, hist, thresholds, masks,
   // flags, edges (packed u8). Host-visible, used in place (no staging): image, dx, dy, flags, edges.

@@ -73,7 +73,7 @@ struct ArcParams {
   double tolerance_px, split_angle_deg;
   int min_points;
 };
-constexpr ArcParams kParamSets[] = {{1.0, 35.0, 15}, {0.5, 10.0, 1}, {2.0, 60.0, 3}, {4.0, 89.0, 2}, {0.25, 0.5, 4}};
+constexpr ArcParams kParamSets[] = {{1.0, 35.0, 15}, {0.5, 10.0, 1}, {2.0, 60.0, 3}, {4.0, 60.0, 2}, {0.25, 0.5, 4}};
 
 // A record no kernel produces: both sides must append after it and leave it alone.
 ArcStats Sentinel() {
