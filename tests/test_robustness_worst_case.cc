@@ -20,6 +20,21 @@ namespace {
 constexpr int kW = 1920, kH = 1080;
 constexpr double kMaxRatio = 10.0;
 
+// Sanitizers slow code down unevenly (ASan most where memory traffic is densest), so a time ratio
+// measured under them says nothing about the product: there the ratios are printed, not asserted.
+// The caps are asserted in every build.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kAssertTime = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+constexpr bool kAssertTime = false;
+#else
+constexpr bool kAssertTime = true;
+#endif
+#else
+constexpr bool kAssertTime = true;
+#endif
+
 ImageView ViewOf(const cv::Mat& m) {
   return {m.ptr<std::uint8_t>(), m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step[0])};
 }
@@ -130,7 +145,7 @@ TEST_P(WorstCase, WithinTenTimesASceneAndCapsReported) {
     std::printf("[worst case] %-18s %8.1f ms  ratio %5.2f  caps_hit %-28s arcs %d candidates %d ellipses %zu\n",
                 c.name, ms, ratio, CapNames(r.caps_hit).c_str(), r.num_arcs, r.num_candidates, r.ellipses.size());
     RecordProperty(std::string(c.name) + "_ratio", std::to_string(ratio));
-    EXPECT_LT(ratio, kMaxRatio) << c.name << ": " << ms << " ms vs scene median " << scene_ms << " ms";
+    if (kAssertTime) EXPECT_LT(ratio, kMaxRatio) << c.name << ": " << ms << " ms vs scene median " << scene_ms << " ms";
     // The counts never exceed the caps, and reaching a cap is reported.
     EXPECT_LE(r.num_arcs, o.max_arcs) << c.name;
     EXPECT_LE(r.num_candidates, o.max_candidates) << c.name;
