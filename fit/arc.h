@@ -24,6 +24,9 @@ Arc ArcFromStats(const ArcStats& s);
 struct Candidate {
   Ellipse ellipse;
   int arcs[3] = {-1, -1, -1};
+  // Set by ClusterCandidates on a cluster reference: the outer rim chosen for it, if any.
+  bool has_rim = false;
+  Ellipse rim;
 };
 
 }  // namespace ellipsekit

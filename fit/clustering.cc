@@ -7,12 +7,16 @@
 namespace ellipsekit {
 
 namespace {
-constexpr double kConcentric = 0.2;  // centres closer than this * b count as nested
+
+double OrientationDifference(double t1, double t2) {
+  const double d = std::fmod(std::abs(t1 - t2), std::numbers::pi);
+  return std::min(d, std::numbers::pi - d);
 }
 
+}  // namespace
+
 double FeatureDistance(const Ellipse& v, const Ellipse& w) {
-  double dr = std::fmod(std::abs(v.theta - w.theta), std::numbers::pi);
-  dr = std::min(dr, std::numbers::pi - dr);
+  const double dr = OrientationDifference(v.theta, w.theta);
   const double dcx = v.cx - w.cx, dcy = v.cy - w.cy, da = v.a - w.a, db = v.b - w.b;
   return std::sqrt(dcx * dcx + dcy * dcy + da * da + db * db + dr * dr);
 }
@@ -26,10 +30,18 @@ bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options) {
   if (std::abs(v.a - w.a) > t * std::max(v.a, w.a)) return false;
   if (std::abs(v.b - w.b) > t * std::max(v.b, w.b)) return false;
   const bool round = v.b > 0.9 * v.a && w.b > 0.9 * w.a;  // orientation means little
-  if (round) return true;
-  double dr = std::fmod(std::abs(v.theta - w.theta), std::numbers::pi);
-  dr = std::min(dr, std::numbers::pi - dr);
-  return dr <= t;
+  return round || OrientationDifference(v.theta, w.theta) <= t;
+}
+
+bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
+  if (std::hypot(outer.cx - inner.cx, outer.cy - inner.cy) >= kRimCentreTolerance * inner.b) {
+    return false;
+  }
+  const double scale = (outer.a + outer.b) / (inner.a + inner.b);
+  if (scale < kRimMinScale || scale > kRimMaxScale) return false;
+  if (std::abs(outer.b / outer.a - inner.b / inner.a) > kRimAxisRatioTolerance) return false;
+  const bool round = outer.b > 0.9 * outer.a && inner.b > 0.9 * inner.a;
+  return round || OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;
 }
 
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options) {
@@ -46,24 +58,28 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     if (x.b != y.b) return x.b < y.b;
     return x.theta < y.theta;
   });
+  // c[0, kept) are the cluster references (each the best-scoring member that founded its
+  // cluster); membership is always tested against the reference, never against the rim chosen
+  // for it, so a cluster cannot drift outwards.
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size(); ++i) {
     std::size_t k = 0;
     while (k < kept && !SameEllipse(c[i].ellipse, c[k].ellipse, options)) ++k;
     if (k == kept) {
-      c[kept++] = c[i];
+      c[kept] = c[i];
+      c[kept].has_rim = false;
+      ++kept;
       continue;
     }
-    // Nested rims (a can's outer rim and its inner lip) fall into one cluster; when their scores
-    // are within the margin, the outer one — the object's boundary — represents the cluster.
-    const Ellipse& e = c[i].ellipse;
-    const Ellipse& ref = c[k].ellipse;
-    if (e.score >= ref.score - options.cluster_outer_margin && e.a + e.b > ref.a + ref.b &&
-        std::hypot(e.cx - ref.cx, e.cy - ref.cy) < kConcentric * ref.b) {
-      const double best = ref.score;
-      c[k] = c[i];
-      c[k].ellipse.score = best;
+    // The best-scoring outer rim of the reference within the margin (members arrive best first).
+    if (!c[k].has_rim && c[i].ellipse.score >= c[k].ellipse.score - options.cluster_outer_margin &&
+        IsOuterRim(c[i].ellipse, c[k].ellipse)) {
+      c[k].has_rim = true;
+      c[k].rim = c[i].ellipse;
     }
+  }
+  for (std::size_t k = 0; k < kept; ++k) {
+    if (c[k].has_rim) c[k].ellipse = c[k].rim;
   }
   return static_cast<int>(kept);
 }

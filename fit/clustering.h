@@ -2,8 +2,10 @@
 // (K(tau) + psi(tau), best first); each joins the first kept ellipse whose feature distance
 //   D = sqrt(dcx^2 + dcy^2 + dA^2 + dB^2 + drho^2)      (px, px, px, px, rad; drho wrapped mod pi)
 // is below T_s (or, with ClusterRule::kRelative, is within a tolerance relative to its size), or
-// else is kept as a new cluster reference. Our addition: a concentric, larger member whose score
-// is within cluster_outer_margin of the reference replaces it (see Options).
+// else is kept as a new cluster reference. Our addition: a cluster whose members include the
+// reference's outer rim (IsOuterRim) within cluster_outer_margin of its score is represented by
+// the best such rim: a can, cup or cap top shows a lip as two nested similar ellipses, and the
+// outer one is the object's boundary, which a grasp needs (see Options).
 #pragma once
 
 #include <vector>
@@ -13,6 +15,17 @@
 #include "fit/arc.h"
 
 namespace ellipsekit {
+
+// Nested-rim geometry, our addition: `outer` is concentric with `inner` (centres within
+// kRimCentreTolerance * inner.b), larger by a factor (a + b) in [kRimMinScale, kRimMaxScale], and
+// of the same shape (b/a within kRimAxisRatioTolerance, orientation within
+// kRimOrientationTolerance rad unless both are nearly round).
+inline constexpr double kRimCentreTolerance = 0.1;
+inline constexpr double kRimMinScale = 1.08;
+inline constexpr double kRimMaxScale = 1.45;
+inline constexpr double kRimAxisRatioTolerance = 0.05;
+inline constexpr double kRimOrientationTolerance = 0.2;
+bool IsOuterRim(const Ellipse& outer, const Ellipse& inner);
 
 double FeatureDistance(const Ellipse& v, const Ellipse& w);
 

@@ -326,6 +326,37 @@ TEST(FitClustering, KeepsTheBestOfNearDuplicatesAndFarApartOnes) {
   EXPECT_EQ(ClusterCandidates(&d, o), 1);
 }
 
+TEST(FitClustering, OuterRimRepresentsItsNestedLip) {
+  // A can top: the lip (inner, best score) and the rim 1.15x larger, concentric, same shape.
+  const Ellipse lip = Make(200, 150, 40, 25, 0.3, 1.9);
+  const Ellipse rim = Make(200.5, 150.5, 46, 28.75, 0.32, 1.7);
+  EXPECT_TRUE(IsOuterRim(rim, lip));
+  EXPECT_FALSE(IsOuterRim(lip, rim));                                     // smaller, not outer
+  EXPECT_FALSE(IsOuterRim(Make(200, 150, 41, 25.6, 0.3), lip));           // 1.02x: same ellipse
+  EXPECT_FALSE(IsOuterRim(Make(200, 150, 62, 39, 0.3), lip));             // 1.55x: another object
+  EXPECT_FALSE(IsOuterRim(Make(200, 153, 46, 28.75, 0.3), lip));          // centre 0.12 b away
+  EXPECT_FALSE(IsOuterRim(Make(200, 150, 46, 31.5, 0.3), lip));           // b/a 0.68 vs 0.625
+  EXPECT_FALSE(IsOuterRim(Make(200, 150, 46, 28.75, 0.6), lip));          // turned 0.3 rad
+  EXPECT_TRUE(IsOuterRim(Make(0, 0, 46, 44, 1.5), Make(0, 0, 40, 38, 0.0)));  // round: any theta
+
+  Options o;  // T_s = 25 merges lip and rim into one cluster
+  std::vector<Candidate> c(3);
+  c[0].ellipse = rim;
+  c[1].ellipse = lip;
+  c[2].ellipse = Make(201, 150, 40.5, 25.2, 0.3, 1.8);  // a near-duplicate of the lip
+  ASSERT_EQ(ClusterCandidates(&c, o), 1);
+  EXPECT_DOUBLE_EQ(c[0].ellipse.a, rim.a);
+  EXPECT_DOUBLE_EQ(c[0].ellipse.score, rim.score);  // the rim's own score is reported
+
+  // Outside the margin the lip stays.
+  o.cluster_outer_margin = 0.1;
+  c.assign(2, Candidate{});
+  c[0].ellipse = rim;
+  c[1].ellipse = lip;
+  ASSERT_EQ(ClusterCandidates(&c, o), 1);
+  EXPECT_DOUBLE_EQ(c[0].ellipse.a, lip.a);
+}
+
 TEST(FitClustering, RelativeRule) {
   Options o;
   o.cluster_rule = ClusterRule::kRelative;
