@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include "ellipsekit/types.h"
+#include "fit/point_moments.h"
 #include "kernels/arc_types.h"
 
 namespace ellipsekit {
@@ -15,10 +16,14 @@ struct Arc {
   int min_x = 0, min_y = 0, max_x = 0, max_y = 0;
   int quadrant = 0;             // Quadrant
   int begin = 0, end = 0;       // point range in Curves, inclusive
+  PointMoments moments;         // of the points [begin, end], about the bounding-box centre
   int points() const { return end - begin + 1; }
 };
 
-Arc ArcFromStats(const ArcStats& s);
+Arc ArcFromStats(const ArcStats& s, const Curves& curves);
+
+// Sets arc->moments from its points; needs begin, end and the bounding box.
+void SetArcMoments(const Curves& curves, Arc* arc);
 
 // A validated ellipse and the arc group it came from (indices into the frame's arcs).
 struct Candidate {

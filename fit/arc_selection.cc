@@ -6,7 +6,12 @@
 
 namespace ellipsekit {
 
-Arc ArcFromStats(const ArcStats& s) {
+void SetArcMoments(const Curves& curves, Arc* arc) {
+  arc->moments = MomentsOfPoints(curves.x.data(), curves.y.data(), arc->begin, arc->end,
+                                 (arc->min_x + arc->max_x) / 2, (arc->min_y + arc->max_y) / 2);
+}
+
+Arc ArcFromStats(const ArcStats& s, const Curves& curves) {
   Arc a;
   a.p0 = {double(s.x0), double(s.y0)};
   a.p1 = {double(s.x1), double(s.y1)};
@@ -19,6 +24,7 @@ Arc ArcFromStats(const ArcStats& s) {
   a.quadrant = s.quadrant;
   a.begin = s.begin;
   a.end = s.end;
+  SetArcMoments(curves, &a);
   return a;
 }
 
@@ -66,7 +72,7 @@ void SelectArcsFromStats(const Curves& curves, const Options& options, ArcScratc
   for (const ArcStats& s : scratch->stats) {
     if (s.quadrant == kQuadrantNone) continue;
     if (!PassesObbRule(curves, s.begin, s.end + 1, options, &scratch->hull)) continue;
-    arcs->push_back(ArcFromStats(s));
+    arcs->push_back(ArcFromStats(s, curves));
   }
   *capped = static_cast<int>(arcs->size()) > options.max_arcs;
   if (*capped) {

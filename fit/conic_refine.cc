@@ -10,16 +10,6 @@
 
 namespace ellipsekit {
 
-namespace {
-constexpr int kMaxPointsPerArc = 128;
-}
-
-void RefineScratch::Reserve() {
-  // Each arc contributes at most 2 * kMaxPointsPerArc points (step = n / kMaxPointsPerArc).
-  x.reserve(3 * 2 * kMaxPointsPerArc + 3);
-  y.reserve(3 * 2 * kMaxPointsPerArc + 3);
-}
-
 bool ConicToEllipse(const double k[6], Ellipse* out) {
   const double A = k[0], B = k[1], C = k[2], D = k[3], E = k[4], F = k[5];
   const double det = 4 * A * C - B * B;
@@ -45,37 +35,39 @@ bool ConicToEllipse(const double k[6], Ellipse* out) {
   return std::isfinite(out->cx) && std::isfinite(out->cy) && std::isfinite(out->a) && std::isfinite(out->b);
 }
 
-bool RefineEllipse(const Curves& curves, const Arc* const* arcs, int count, RefineScratch* s,
-                   Ellipse* out) {
-  s->x.clear();
-  s->y.clear();
+bool RefineEllipse(const Arc* const* arcs, int count, Ellipse* out) {
+  // Centroid, then the central moments of the group (each arc's moments shifted to it).
+  double n = 0, sx = 0, sy = 0;
   for (int i = 0; i < count; ++i) {
-    const Arc& arc = *arcs[i];
-    const int n = arc.points();
-    const int step = std::max(1, n / kMaxPointsPerArc);
-    for (int p = arc.begin; p <= arc.end; p += step) {
-      s->x.push_back(curves.x[p]);
-      s->y.push_back(curves.y[p]);
-    }
+    const PointMoments& p = arcs[i]->moments;
+    n += p.m[0][0];
+    sx += p.m[1][0] + p.ox * p.m[0][0];
+    sy += p.m[0][1] + p.oy * p.m[0][0];
   }
-  const int n = static_cast<int>(s->x.size());
   if (n < 6) return false;
-  double mx = 0, my = 0;
-  for (int i = 0; i < n; ++i) { mx += s->x[i]; my += s->y[i]; }
-  mx /= n; my /= n;
-  double scale = 0;
-  for (int i = 0; i < n; ++i) scale += (s->x[i] - mx) * (s->x[i] - mx) + (s->y[i] - my) * (s->y[i] - my);
-  scale = std::sqrt(scale / n);
+  PointMoments c;
+  c.ox = sx / n;
+  c.oy = sy / n;
+  for (int i = 0; i < count; ++i) AddShiftedMoments(arcs[i]->moments, &c);
+  // Normalised coordinates (x - mean) / scale with scale the RMS distance to the centroid.
+  const double scale = std::sqrt((c.m[2][0] + c.m[0][2]) / n);
   if (!(scale > 0)) return false;
-  // Scatter matrices of the quadratic (x^2, xy, y^2) and linear (x, y, 1) parts.
-  Eigen::Matrix3d s1 = Eigen::Matrix3d::Zero(), s2 = Eigen::Matrix3d::Zero(), s3 = Eigen::Matrix3d::Zero();
-  for (int i = 0; i < n; ++i) {
-    const double x = (s->x[i] - mx) / scale, y = (s->y[i] - my) / scale;
-    const Eigen::Vector3d d1(x * x, x * y, y * y), d2(x, y, 1.0);
-    s1 += d1 * d1.transpose();
-    s2 += d1 * d2.transpose();
-    s3 += d2 * d2.transpose();
+  double nm[kMomentOrder + 1][kMomentOrder + 1];  // normalised central moments
+  for (int a = 0; a <= kMomentOrder; ++a) {
+    for (int b = 0; a + b <= kMomentOrder; ++b) nm[a][b] = c.m[a][b] / std::pow(scale, a + b);
   }
+  // Scatter matrices of the quadratic (x^2, xy, y^2) and linear (x, y, 1) parts:
+  // s1 = sum d1 d1^T, s2 = sum d1 d2^T, s3 = sum d2 d2^T.
+  Eigen::Matrix3d s1, s2, s3;
+  s1 << nm[4][0], nm[3][1], nm[2][2],
+        nm[3][1], nm[2][2], nm[1][3],
+        nm[2][2], nm[1][3], nm[0][4];
+  s2 << nm[3][0], nm[2][1], nm[2][0],
+        nm[2][1], nm[1][2], nm[1][1],
+        nm[1][2], nm[0][3], nm[0][2];
+  s3 << nm[2][0], nm[1][1], nm[1][0],
+        nm[1][1], nm[0][2], nm[0][1],
+        nm[1][0], nm[0][1], nm[0][0];
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(s3);
   if (!lu.isInvertible()) return false;
   const Eigen::Matrix3d t = -lu.solve(s2.transpose());
@@ -98,8 +90,8 @@ bool RefineEllipse(const Curves& curves, const Arc* const* arcs, int count, Refi
   const double conic[6] = {a1(0), a1(1), a1(2), a2(0), a2(1), a2(2)};
   Ellipse e;
   if (!ConicToEllipse(conic, &e)) return false;
-  e.cx = e.cx * scale + mx;
-  e.cy = e.cy * scale + my;
+  e.cx = e.cx * scale + c.ox;
+  e.cy = e.cy * scale + c.oy;
   e.a *= scale;
   e.b *= scale;
   e.score = out->score;

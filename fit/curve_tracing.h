@@ -16,7 +16,7 @@
 namespace ellipsekit {
 
 struct TraceScratch {
-  std::vector<std::uint8_t> work;  // width * height copy of the edge map, cleared as visited
+  std::vector<std::uint8_t> work;  // (width + 2) x (height + 2): the edge map in a zero border, cleared as visited
   std::vector<std::int32_t> forward, backward;
 };
 

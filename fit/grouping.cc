@@ -57,7 +57,7 @@ bool FitAndValidate(const Curves& curves, const Arc* const* group, int count, co
                     const Options& options, GroupScratch* s, Ellipse* e) {
   // The refit (our addition) takes the place of the estimate of eqs. 8-12 when it succeeds; it
   // fits a true group to the pixel, so psi can be held to a much stricter bar (README: measured).
-  const bool refined = options.refine_fit && RefineEllipse(curves, group, count, &s->refine, e);
+  const bool refined = options.refine_fit && RefineEllipse(group, count, e);
   if (!refined && !EstimateParameters(curves, group, count, center, &s->params, e)) return false;
   if (!(e->b >= 1.0)) return false;
   const double k = LengthRatio(group, count, *e);
@@ -80,7 +80,6 @@ void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
   as_next_offset.reserve(arcs + 1);
   as_prev_offset.reserve(arcs + 1);
   params.Reserve();
-  refine.Reserve();
 }
 
 void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,

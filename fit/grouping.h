@@ -41,7 +41,6 @@ struct GroupScratch {
   std::vector<int> as_next_offset, as_next;  // CSR: pairs in which arc i is `next`
   std::vector<int> as_prev_offset, as_prev;  // CSR: pairs in which arc i is `prev`
   ParameterScratch params;
-  RefineScratch refine;
 
   // Sizes every buffer for the worst case of a frame with `pixels` pixels under `options`' caps,
   // so no later frame grows them.

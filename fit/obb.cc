@@ -20,17 +20,42 @@ std::int64_t Cross(std::int64_t o, std::int64_t a, std::int64_t b) {
 
 }  // namespace
 
+std::int64_t ObbScratchSize(std::int64_t points, std::int64_t columns) {
+  return 2 * points + 4 * columns;  // the hull stack (<= 2 per point), then the columns
+}
+
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                     std::vector<std::int64_t>* hull) {
   const int n = end - begin;
   ObbSides best;
   if (n <= 0) return best;
-  // Points first (sorted, unique) in the back half, hull built in the front.
-  hull->resize(static_cast<std::size_t>(3 * n));
-  std::int64_t* pts = hull->data() + 2 * n;
-  for (int i = 0; i < n; ++i) pts[i] = Pack(x[begin + i], y[begin + i]);
-  std::sort(pts, pts + n);
-  const int m = static_cast<int>(std::unique(pts, pts + n) - pts);
+  // The hull of the points is the hull of each column's lowest and highest point, and listing
+  // those column by column gives them sorted by (x, y) and unique without a sort: O(n + columns).
+  int min_x = x[begin], max_x = x[begin];
+  for (int i = begin + 1; i < end; ++i) {
+    min_x = std::min(min_x, x[i]);
+    max_x = std::max(max_x, x[i]);
+  }
+  const int columns = max_x - min_x + 1;  // <= n: the points are an 8-connected chain or fewer
+  hull->resize(static_cast<std::size_t>(ObbScratchSize(n, columns)));
+  std::int64_t* column_lo = hull->data() + 2 * n;   // lowest y per column (kEmpty: none)
+  std::int64_t* column_hi = column_lo + columns;    // highest y per column
+  std::int64_t* pts = column_hi + columns;          // up to 2 per column
+  constexpr std::int64_t kEmpty = std::numeric_limits<std::int64_t>::max();
+  std::fill(column_lo, column_lo + columns, kEmpty);
+  std::fill(column_hi, column_hi + columns, std::numeric_limits<std::int64_t>::min());
+  for (int i = begin; i < end; ++i) {
+    const int c = x[i] - min_x;
+    column_lo[c] = std::min<std::int64_t>(column_lo[c], y[i]);
+    column_hi[c] = std::max<std::int64_t>(column_hi[c], y[i]);
+  }
+  int m = 0;
+  for (int c = 0; c < columns; ++c) {
+    if (column_lo[c] == kEmpty) continue;
+    const std::int32_t cx = min_x + c;
+    pts[m++] = Pack(cx, static_cast<std::int32_t>(column_lo[c]));
+    if (column_hi[c] != column_lo[c]) pts[m++] = Pack(cx, static_cast<std::int32_t>(column_hi[c]));
+  }
   std::int64_t* h = hull->data();
   int k = 0;
   for (int i = 0; i < m; ++i) {  // lower hull

@@ -13,7 +13,10 @@ struct ObbSides {
   double long_side = 0;   // px
 };
 
-// Points are (x[i], y[i]) for i in [begin, end). hull: scratch.
+// Points are (x[i], y[i]) for i in [begin, end). hull: scratch, resized to
+// ObbScratchSize(end - begin, columns the points span) <= ObbScratchSize(n, n) entries.
+std::int64_t ObbScratchSize(std::int64_t points, std::int64_t columns);
+
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                     std::vector<std::int64_t>* hull);
 

@@ -3,6 +3,7 @@
 // Contract (order independent, so every backend can reach it its own way): a pixel is an edge
 // exactly when it is weak or strong (nms.h) and lies in an 8-connected component of such pixels
 // that holds at least one strong pixel. Out: 1 = edge, 0 = not. In-place on the NMS map.
+// Sizes up to 16384 px a side (detect()'s limit; stack entries pack y and x in 15 bits each).
 // The scalar reference floods from every strong pixel with an explicit stack (`stack` must hold
 // width * height entries); a parallel backend may iterate "weak with an edge neighbour becomes
 // edge" until nothing changes, which ends after at most width * height rounds.

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "fit/arc_selection.h"
+#include "fit/obb.h"
 #include "fit/clustering.h"
 #include "fit/curve_tracing.h"
 #include "fit/grouping.h"
@@ -140,14 +141,14 @@ struct Detector::Impl {
     trace.work.reserve(n);
     trace.forward.reserve(n);
     trace.backward.reserve(n);
-    hull.reserve(3 * n);
+    hull.reserve(static_cast<std::size_t>(ObbScratchSize(n, n)));  // a chain spans <= n columns
     arc_scratch.polylines.vertex.reserve(n);
     arc_scratch.polylines.offset.reserve(n + 1);
     arc_scratch.splits.index.reserve(n);
     arc_scratch.splits.offset.reserve(n + 1);
     arc_scratch.stack.reserve(2 * n);
     arc_scratch.stats.reserve(n);
-    arc_scratch.hull.reserve(3 * n);
+    arc_scratch.hull.reserve(static_cast<std::size_t>(ObbScratchSize(n, n)));
     arcs.reserve(n);
     candidates.reserve(ReserveFor(options.max_candidates));
     groups.Reserve(n, options);
