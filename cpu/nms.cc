@@ -85,6 +85,12 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
     int x = 1;
     // The loads reach x + n, which must stay <= width - 1.
     for (; x + n <= width - 1; x += n) {
+      const auto m = LoadMag(d32, du16, mc + x);
+      const auto above_low = hn::Gt(m, low_v);
+      if (hn::AllFalse(d32, above_low)) {  // most of a frame: no candidate in these lanes
+        hn::StoreU(hn::Zero(du8), du8, o + x);
+        continue;
+      }
       const auto gxv = hn::PromoteTo(d32, hn::LoadU(di16, gx + x));
       const auto gyv = hn::PromoteTo(d32, hn::LoadU(di16, gy + x));
       const auto ax = hn::Abs(gxv);
@@ -95,7 +101,6 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
       // s = -1 (opposite signs): neighbours (x+1, y-1), (x-1, y+1); s = +1: (x-1, y-1), (x+1, y+1).
       const auto opposite = hn::Lt(hn::Xor(gxv, gyv), zero);
 
-      const auto m = LoadMag(d32, du16, mc + x);
       const auto c_left = LoadMag(d32, du16, mc + x - 1), c_right = LoadMag(d32, du16, mc + x + 1);
       const auto p_left = LoadMag(d32, du16, mp + x - 1), p_mid = LoadMag(d32, du16, mp + x),
                  p_right = LoadMag(d32, du16, mp + x + 1);
@@ -110,7 +115,7 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
       // Diagonal needs m > second; the other two directions m >= second.
       // (Highway 1.0 has no integer >= on x86, hence > or ==.)
       const auto second_ok = hn::Or(hn::Gt(m, second), hn::AndNot(diagonal, hn::Eq(m, second)));
-      const auto is_edge = hn::And(hn::And(hn::Gt(m, low_v), hn::Gt(m, first)), second_ok);
+      const auto is_edge = hn::And(hn::And(above_low, hn::Gt(m, first)), second_ok);
       const auto cls = hn::IfThenElseZero(is_edge, hn::IfThenElse(hn::Gt(m, high_v), strong, weak));
       hn::StoreU(hn::DemoteTo(du8, cls), du8, o + x);
     }
