@@ -20,11 +20,6 @@ Eigen::Vector3d TangentLine(const Eigen::Vector2d& p, const Eigen::Vector2d& n) 
   return {n.x(), n.y(), -n.dot(p)};
 }
 
-double SinBetween(const Eigen::Vector3d& l1, const Eigen::Vector3d& l2) {
-  const double c = l1.x() * l2.y() - l1.y() * l2.x();
-  return std::abs(c) / (l1.head<2>().norm() * l2.head<2>().norm());
-}
-
 }  // namespace
 
 bool ChordCenterLine(const Eigen::Vector2d& p, const Eigen::Vector2d& np, const Eigen::Vector2d& q,
@@ -39,8 +34,10 @@ bool ChordCenterLine(const Eigen::Vector2d& p, const Eigen::Vector2d& np, const 
 }
 
 bool IntersectLines(const Eigen::Vector3d& l1, const Eigen::Vector3d& l2, Eigen::Vector2d* point) {
-  if (SinBetween(l1, l2) < kMinSinBetweenLines) return false;
   const Eigen::Vector3d x = l1.cross(l2);
+  // sin(angle between the lines) = |x.z| / (|n1| |n2|), compared squared: no root, no division.
+  const double n1 = l1.head<2>().squaredNorm(), n2 = l2.head<2>().squaredNorm();
+  if (x.z() * x.z() < kMinSinBetweenLines * kMinSinBetweenLines * n1 * n2) return false;
   if (!(std::abs(x.z()) > 1e-12)) return false;
   *point = x.head<2>() / x.z();
   return std::isfinite(point->x()) && std::isfinite(point->y());
