@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -136,7 +137,7 @@ void PrepareFrom(const cv::Mat& frame, Prepared* p) {
   ek::scalar::Gaussian(p->frame.data, w, w, h, p->blurred.data(), w);
   ek::scalar::Sobel(p->blurred.data(), w, w, h, p->dx.data(), p->dy.data(), p->mag.data(), w);
   ek::scalar::MagnitudeHistogram(p->mag.data(), w, h, w, p->hist.data());
-  p->th = ek::ThresholdsFromHistogram(p->hist.data(), static_cast<std::int64_t>(n), o.canny_high_permille,
+  p->th = ek::ThresholdsFromHistogram(p->hist.data(), o.canny_high_permille,
                                       o.canny_low_permille, o.canny_min_high);
   ek::scalar::Nms(p->dx.data(), p->dy.data(), p->mag.data(), w, h, w, p->th.low, p->th.high, p->nms.data(), w);
   p->hyst = p->nms;
@@ -161,6 +162,18 @@ void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_
   st.SetBytesProcessed(st.iterations() * bytes_per_iter);
 }
 
+// The Highway table (dispatching to whatever target is forced) or the scalar references; nullptr,
+// with the benchmark skipped, when SIMD is asked for but not built.
+const ek::KernelTable* CpuKernels(benchmark::State& st, bool simd) {
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  (void)st;
+  return simd ? &ek::SimdKernels() : &ek::ScalarKernels();
+#else
+  if (simd) { st.SkipWithError("SIMD backend not built"); return nullptr; }
+  return &ek::ScalarKernels();
+#endif
+}
+
 // ---- kernels: one function per row of kernels/kernels.inc (stage Edges). `simd` selects the
 // Highway entry points (dispatching to whatever target is forced), else the scalar references.
 // Bytes: what the kernel reads plus what it writes, per frame.
@@ -168,12 +181,9 @@ void RunKernel(benchmark::State& st, const std::string& kernel, bool simd, Size 
   Prepared& p = PreparedFor(s);
   const int w = p.w, h = p.h;
   const std::int64_t n = static_cast<std::int64_t>(w) * h;
-#ifdef ELLIPSEKIT_HAVE_SIMD
-  const ek::KernelTable& t = simd ? ek::SimdKernels() : ek::ScalarKernels();
-#else
-  if (simd) { st.SkipWithError("SIMD backend not built"); return; }
-  const ek::KernelTable& t = ek::ScalarKernels();
-#endif
+  const ek::KernelTable* table = CpuKernels(st, simd);
+  if (table == nullptr) return;
+  const ek::KernelTable& t = *table;
   std::vector<std::uint8_t> out_u8(n);
   std::vector<std::int16_t> dx(n), dy(n);
   std::vector<std::uint16_t> mag(n);
@@ -198,7 +208,7 @@ void RunKernel(benchmark::State& st, const std::string& kernel, bool simd, Size 
     const ek::Options o;
     for (auto _ : st) {
       t.magnitude_histogram(p.mag.data(), w, h, w, hist.data());
-      th = ek::ThresholdsFromHistogram(hist.data(), n, o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
+      th = ek::ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
       benchmark::DoNotOptimize(th);
     }
     bytes = 2 * n;
@@ -231,22 +241,20 @@ void RunKernel(benchmark::State& st, const std::string& kernel, bool simd, Size 
   SetRates(st, n, bytes);
 }
 
-// Simd kernels on one forced Highway target; skipped when the CPU lacks it.
-void BM_KernelSimdTarget(benchmark::State& st, std::string kernel, std::int64_t target, Size s) {
 #ifdef ELLIPSEKIT_HAVE_SIMD
+// Runs `run` with Highway forced to one target; skipped when the CPU lacks it.
+template <class Run>
+void OnSimdTarget(benchmark::State& st, std::int64_t target, Run&& run) {
   const auto avail = ek::simd::AvailableTargets();
   if (std::find(avail.begin(), avail.end(), target) == avail.end()) {
     st.SkipWithError(("Highway target " + ek::simd::TargetName(target) + " not supported by this CPU").c_str());
     return;
   }
   ek::simd::ForceTarget(target);
-  RunKernel(st, kernel, true, s);
+  run();
   ek::simd::ForceTarget(0);
-#else
-  (void)kernel; (void)target; (void)s;
-  st.SkipWithError("SIMD backend not built");
-#endif
 }
+#endif
 
 // ---- arc-stage kernels: the curves of one frame as the detector traces them (scalar edge stage,
 // TraceCurves with T_n; the detector's OBB filter, which needs Eigen, is left out, so a few more
@@ -311,12 +319,9 @@ bool SameArcStats(const std::vector<ek::ArcStats>& a, const std::vector<ek::ArcS
 void RunArcKernel(benchmark::State& st, const std::string& kernel, bool simd, const std::string& input) {
   const ArcInputs* in = ArcInputsFor(input);
   if (in == nullptr) { st.SkipWithError(("no frame for input " + input).c_str()); return; }
-#ifdef ELLIPSEKIT_HAVE_SIMD
-  const ek::KernelTable& t = simd ? ek::SimdKernels() : ek::ScalarKernels();
-#else
-  if (simd) { st.SkipWithError("SIMD backend not built"); return; }
-  const ek::KernelTable& t = ek::ScalarKernels();
-#endif
+  const ek::KernelTable* table = CpuKernels(st, simd);
+  if (table == nullptr) return;
+  const ek::KernelTable& t = *table;
   const ek::Options o;
   bool same = true;
   if (kernel == "polyline") {
@@ -360,22 +365,6 @@ void RunArcKernel(benchmark::State& st, const std::string& kernel, bool simd, co
   st.SetItemsProcessed(st.iterations() * in->points);
 }
 
-void BM_ArcKernelSimdTarget(benchmark::State& st, std::string kernel, std::int64_t target, std::string input) {
-#ifdef ELLIPSEKIT_HAVE_SIMD
-  const auto avail = ek::simd::AvailableTargets();
-  if (std::find(avail.begin(), avail.end(), target) == avail.end()) {
-    st.SkipWithError(("Highway target " + ek::simd::TargetName(target) + " not supported by this CPU").c_str());
-    return;
-  }
-  ek::simd::ForceTarget(target);
-  RunArcKernel(st, kernel, true, input);
-  ek::simd::ForceTarget(0);
-#else
-  (void)kernel; (void)target; (void)input;
-  st.SkipWithError("SIMD backend not built");
-#endif
-}
-
 // ---- the whole edge stage, as runtime/detector.cc runs it on a CPU kernel table.
 void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   const int w = frame.cols, h = frame.rows;
@@ -383,8 +372,7 @@ void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   k.gaussian(frame.data, static_cast<std::ptrdiff_t>(frame.step[0]), w, h, b->blurred.data(), w);
   k.sobel(b->blurred.data(), w, w, h, b->dx.data(), b->dy.data(), b->mag.data(), w);
   k.magnitude_histogram(b->mag.data(), w, h, w, b->hist.data());
-  const ek::CannyThresholds th = ek::ThresholdsFromHistogram(b->hist.data(), static_cast<std::int64_t>(w) * h,
-                                                             o.canny_high_permille, o.canny_low_permille,
+  const ek::CannyThresholds th = ek::ThresholdsFromHistogram(b->hist.data(), o.canny_high_permille, o.canny_low_permille,
                                                              o.canny_min_high);
   k.nms(b->dx.data(), b->dy.data(), b->mag.data(), w, h, w, th.low, th.high, b->nms.data(), w);
   k.hysteresis(b->nms.data(), w, h, w, b->stack.data());
@@ -395,11 +383,10 @@ void BM_EdgeStageCpu(benchmark::State& st, bool simd, Size s) {
   Prepared& p = PreparedFor(s);
 #ifdef ELLIPSEKIT_HAVE_SIMD
   ek::simd::ForceTarget(0);
-  const ek::KernelTable& k = simd ? ek::SimdKernels() : ek::ScalarKernels();
-#else
-  if (simd) { st.SkipWithError("SIMD backend not built"); return; }
-  const ek::KernelTable& k = ek::ScalarKernels();
 #endif
+  const ek::KernelTable* table = CpuKernels(st, simd);
+  if (table == nullptr) return;
+  const ek::KernelTable& k = *table;
   Prepared buf;
   PrepareFrom(p.frame, &buf);  // sized buffers (contents overwritten)
   for (auto _ : st) {
@@ -599,6 +586,27 @@ std::vector<std::pair<std::string, cv::Mat>>& EndToEndImages(const std::string& 
   return sets[set];
 }
 
+// Registers kernel/<kernel>/scalar<tail> and the SIMD variants: kernel/<kernel>/simd:<target><tail>
+// per Highway target in `targets`, or kernel/<kernel>/simd<tail> (which skips itself) when SIMD is
+// not built. run(st, simd) runs the kernel.
+void RegisterKernel(const std::string& kernel, const std::string& tail, const std::vector<std::int64_t>& targets,
+                    const std::function<void(benchmark::State&, bool)>& run) {
+  const std::string name = "kernel/" + kernel;
+  benchmark::RegisterBenchmark((name + "/scalar" + tail).c_str(),
+                               [run](benchmark::State& st) { run(st, false); })->UseRealTime();
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  for (std::int64_t t : targets) {
+    benchmark::RegisterBenchmark((name + "/simd:" + ek::simd::TargetName(t) + tail).c_str(),
+                                 [run, t](benchmark::State& st) { OnSimdTarget(st, t, [&] { run(st, true); }); })
+        ->UseRealTime();
+  }
+#else
+  (void)targets;
+  benchmark::RegisterBenchmark((name + "/simd" + tail).c_str(),
+                               [run](benchmark::State& st) { run(st, true); })->UseRealTime();
+#endif
+}
+
 void Register() {
   const char* kernels[] = {
 #define ELLIPSEKIT_KERNEL(name, stage) ELLIPSEKIT_KERNEL_##stage(name)
@@ -619,19 +627,9 @@ void Register() {
 
   for (const char* k : kernels) {
     for (Size s : kSizes) {
-      const std::string tail = "/" + SizeName(s);
-      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/scalar" + tail).c_str(),
-                                   [k, s](benchmark::State& st) { RunKernel(st, k, false, s); })->UseRealTime();
-#ifdef ELLIPSEKIT_HAVE_SIMD
-      for (std::int64_t t : targets) {
-        benchmark::RegisterBenchmark(
-            ("kernel/" + std::string(k) + "/simd:" + ek::simd::TargetName(t) + tail).c_str(),
-            [k, t, s](benchmark::State& st) { BM_KernelSimdTarget(st, k, t, s); })->UseRealTime();
-      }
-#else
-      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/simd" + tail).c_str(),
-                                   [k, s](benchmark::State& st) { RunKernel(st, k, true, s); })->UseRealTime();
-#endif
+      std::string tail = "/";  // (appends: GCC 12 warns falsely on "literal" + string)
+      tail += SizeName(s);
+      RegisterKernel(k, tail, targets, [k, s](benchmark::State& st, bool simd) { RunKernel(st, k, simd, s); });
     }
   }
 
@@ -645,19 +643,9 @@ void Register() {
   };
   for (const char* k : arc_kernels) {
     for (const char* input : {"scene", "prasad"}) {
-      const std::string in(input), tail = "/" + in;
-      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/scalar" + tail).c_str(),
-                                   [k, in](benchmark::State& st) { RunArcKernel(st, k, false, in); })->UseRealTime();
-#ifdef ELLIPSEKIT_HAVE_SIMD
-      for (std::int64_t t : targets) {
-        benchmark::RegisterBenchmark(
-            ("kernel/" + std::string(k) + "/simd:" + ek::simd::TargetName(t) + tail).c_str(),
-            [k, t, in](benchmark::State& st) { BM_ArcKernelSimdTarget(st, k, t, in); })->UseRealTime();
-      }
-#else
-      benchmark::RegisterBenchmark(("kernel/" + std::string(k) + "/simd" + tail).c_str(),
-                                   [k, in](benchmark::State& st) { RunArcKernel(st, k, true, in); })->UseRealTime();
-#endif
+      const std::string in(input);
+      RegisterKernel(k, "/" + in, targets,
+                     [k, in](benchmark::State& st, bool simd) { RunArcKernel(st, k, simd, in); });
     }
   }
 

@@ -87,17 +87,7 @@ ArcStats MakeArc(const Curves& c, int curve, std::int32_t begin, std::int32_t en
   const std::int32_t size = static_cast<std::int32_t>(c.x.size());
   const std::int32_t* px = c.x.data();
   const std::int32_t* py = c.y.data();
-  ArcStats a;
-  a.curve = curve;
-  a.begin = begin;
-  a.end = end;
-  a.sign_class = c.sign_class[curve];
-  a.x0 = px[begin]; a.y0 = py[begin];
-  a.x1 = px[end];   a.y1 = py[end];
-  const std::int32_t mid = begin + (end - begin) / 2;
-  a.xm = px[mid]; a.ym = py[mid];
-  a.min_x = a.max_x = a.x0;
-  a.min_y = a.max_y = a.y0;
+  ArcStats a = ArcPointStats(c, curve, begin, end);
 
   const auto x0 = hn::Set(d, a.x0), y0 = hn::Set(d, a.y0);
   Reduction<decltype(d)> r{x0, x0, y0, y0, hn::Zero(d), hn::Zero(d)};
@@ -147,26 +137,14 @@ ArcStats MakeArc(const Curves& c, int curve, std::int32_t begin, std::int32_t en
   a.g0y = GradientSum(c.gy.data() + begin, k, false, begin + 4 <= size);
   a.g1x = GradientSum(c.gx.data() + end, k, true, end >= 3);
   a.g1y = GradientSum(c.gy.data() + end, k, true, end >= 3);
-  if (a.sign_class == 2) {  // kEdgeMinus
-    const std::int64_t s = bx - by;
-    a.quadrant = s > 0 ? kQuadrantI : s < 0 ? kQuadrantIII : kQuadrantNone;
-  } else {
-    const std::int64_t s = bx + by;
-    a.quadrant = s < 0 ? kQuadrantII : s > 0 ? kQuadrantIV : kQuadrantNone;
-  }
+  a.quadrant = QuadrantFromBulge(a.sign_class, bx, by);
   return a;
 }
 
 void ArcStatsFromSplitsImpl(const Curves& curves, const Splits& splits, int min_points, std::vector<ArcStats>* out) {
-  for (int c = 0; c < curves.size(); ++c) {
-    std::int32_t begin = curves.offset[c];
-    const std::int32_t last = curves.offset[c + 1] - 1;
-    for (std::int32_t s = splits.offset[c]; s <= splits.offset[c + 1]; ++s) {
-      const std::int32_t end = (s < splits.offset[c + 1]) ? splits.index[s] : last;
-      if (end - begin + 1 >= min_points) out->push_back(MakeArc(curves, c, begin, end));
-      begin = end;
-    }
-  }
+  ArcStatsWith(curves, splits, min_points, out, [&curves](int c, std::int32_t begin, std::int32_t end) HWY_ATTR {
+    return MakeArc(curves, c, begin, end);
+  });
 }
 
 }  // namespace HWY_NAMESPACE

@@ -22,7 +22,7 @@ void MagnitudeHistogram(const std::uint16_t* mag, int width, int height, std::pt
   constexpr int kBins = kMaxMagnitude + 1;
   // 4 x 2041 x 4 bytes = 32 KiB on the stack; no allocation per frame.
   std::array<std::array<std::uint32_t, kBins>, 4> sub{};
-  for (int y = 0; y < height; ++y) {
+  for (int y = 0; y < height; y += kHistogramRowStep) {
     const std::uint16_t* row = mag + y * stride;
     int x = 0;
     for (; x + 4 <= width; x += 4) {

@@ -1,7 +1,7 @@
 // polyline, Highway version. Contract: kernels/polyline.h (exact Ramer-Douglas-Peucker, first
 // farthest point on ties, halving of segments longer than kMaxSegmentComponent).
 //
-// The recursion (an explicit stack of chords) is the reference's, step for step; only the search
+// The recursion (an explicit stack of chords) is the reference's own (PolylineWith); only the search
 // for the farthest point of a chord (i, j) is vectorised, N interior points at a time in int32
 // lanes. 32 bits are enough: with every coordinate |c| < 2^14 (kMaxImageDimension) each
 // difference is at most 2^15 - 2 = 32766 in magnitude, each product at most 32766^2 < 2^30, and
@@ -27,7 +27,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
 #include <vector>
 
@@ -48,14 +47,7 @@ HWY_INLINE std::int32_t FarthestPoint(const std::int32_t* HWY_RESTRICT px, const
   const std::int32_t n = static_cast<std::int32_t>(hn::Lanes(d));
   const std::int32_t cx = px[j] - px[i], cy = py[j] - py[i];
   if (j - i - 1 < n) {  // fewer points than one vector: the reduction would cost more than the loop
-    std::int64_t best = -1;
-    std::int32_t best_k = -1;
-    for (std::int32_t k = i + 1; k < j; ++k) {
-      const std::int64_t cr = std::abs(cx * (py[k] - py[i]) - cy * (px[k] - px[i]));
-      if (cr > best) { best = cr; best_k = k; }
-    }
-    *best_out = best;
-    return best_k;
+    return FarthestPointInRange(px, py, i, j, i + 1, j, best_out);
   }
   const auto cxv = hn::Set(d, cx), cyv = hn::Set(d, cy);
   const auto xi = hn::Set(d, px[i]), yi = hn::Set(d, py[i]);
@@ -85,11 +77,7 @@ HWY_INLINE std::int32_t FarthestPoint(const std::int32_t* HWY_RESTRICT px, const
       best = hn::IfThenElse(better, cr, best);
       best_k = hn::IfThenElse(better, kv, best_k);
     } else {
-      for (; k < j; ++k) {
-        const std::int64_t cr = std::llabs(static_cast<std::int64_t>(cx) * (py[k] - py[i]) -
-                                           static_cast<std::int64_t>(cy) * (px[k] - px[i]));
-        if (cr > tail_best) { tail_best = cr; tail_k = k; }
-      }
+      tail_k = FarthestPointInRange(px, py, i, j, k, j, &tail_best);
     }
   }
   const std::int32_t vmax = hn::GetLane(hn::MaxOfLanes(d, best));
@@ -109,42 +97,13 @@ HWY_INLINE std::int32_t FarthestPoint(const std::int32_t* HWY_RESTRICT px, const
 }
 
 void PolylineImpl(const Curves& curves, std::int32_t tol_q16, Polylines* out, std::vector<std::int32_t>* stack) {
-  out->clear();
   const std::int32_t* px = curves.x.data();
   const std::int32_t* py = curves.y.data();
   const std::int32_t size = static_cast<std::int32_t>(curves.x.size());
-  for (int c = 0; c < curves.size(); ++c) {
-    const std::int32_t first = curves.offset[c], last = curves.offset[c + 1] - 1;
-    out->vertex.push_back(first);
-    if (last > first) {
-      stack->clear();
-      stack->push_back(first);
-      stack->push_back(last);
-      while (!stack->empty()) {
-        const std::int32_t j = stack->back(); stack->pop_back();
-        const std::int32_t i = stack->back(); stack->pop_back();
-        const std::int64_t cx = px[j] - px[i], cy = py[j] - py[i];
-        std::int64_t best = -1;
-        std::int32_t best_k = -1;
-        if (j - i >= 2) best_k = FarthestPoint(px, py, size, i, j, &best);
-        const std::int64_t len2 = cx * cx + cy * cy;
-        std::int32_t split = -1;
-        if (best_k >= 0 && 16 * best * best > static_cast<std::int64_t>(tol_q16) * len2) {
-          split = best_k;
-        } else if ((std::llabs(cx) > kMaxSegmentComponent || std::llabs(cy) > kMaxSegmentComponent) && j - i >= 2) {
-          split = i + (j - i) / 2;
-        }
-        if (split >= 0) {
-          // Right half below the left half, so vertices come out in increasing order.
-          stack->push_back(split); stack->push_back(j);
-          stack->push_back(i); stack->push_back(split);
-        } else {
-          out->vertex.push_back(j);
-        }
-      }
-    }
-    out->offset.push_back(static_cast<std::int32_t>(out->vertex.size()));
-  }
+  auto farthest = [px, py, size](std::int32_t i, std::int32_t j, std::int64_t* best) HWY_ATTR {
+    return FarthestPoint(px, py, size, i, j, best);
+  };
+  PolylineWith(curves, tol_q16, out, stack, farthest);
 }
 
 }  // namespace HWY_NAMESPACE

@@ -182,8 +182,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
     }
     k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
     k.magnitude_histogram(mag.data(), w, h, w, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(w) * h,
-                                                       options.canny_high_permille,
+    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), options.canny_high_permille,
                                                        options.canny_low_permille, options.canny_min_high);
     k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
     k.hysteresis(nms.data(), w, h, w, stack.data());

@@ -145,6 +145,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   const VulkanFunctions& vk = ctx_->vk();
   const int w = width_, h = height_;
   const std::uint64_t n = static_cast<std::uint64_t>(w) * h;
+  const std::uint64_t counted = static_cast<std::uint64_t>(w) * HistogramRows(h);  // histogram's N
 
   // Upload into the padded frame of shaders/gaussian.comp: 16 pad bytes, the row, the rest of the
   // row's chunks and 16 more pad bytes, all pads repeating the nearest pixel; rows -1 and h repeat
@@ -161,7 +162,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   ctx_->FlushHostWrites(buffers_[kImage]);
 
   // 1000 * below >= high_permille * N  <=>  below >= ceil(high_permille * N / 1000).
-  const std::uint64_t need = (static_cast<std::uint64_t>(std::max(options.canny_high_permille, 0)) * n + 999) / 1000;
+  const std::uint64_t need = (static_cast<std::uint64_t>(std::max(options.canny_high_permille, 0)) * counted + 999) / 1000;
   const std::uint32_t uw = static_cast<std::uint32_t>(w), uh = static_cast<std::uint32_t>(h);
   const std::uint64_t row_blocks = CeilDiv(static_cast<std::uint64_t>(h), kRowsPerInvocation);
   const std::uint64_t chunk_groups = CeilDiv(static_cast<std::uint64_t>(chunks_) * row_blocks, kGroup);
@@ -197,7 +198,8 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   Dispatch1D(cb, options.gaussian_blur ? kSobel : kSobelRaw, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   const std::uint32_t mask_push[6] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4};
-  Dispatch1D(cb, kHistogram, CeilDiv(static_cast<std::uint64_t>(plane_row_vec4) * h, kHistVec4PerGroup), mask_push);
+  Dispatch1D(cb, kHistogram, CeilDiv(static_cast<std::uint64_t>(plane_row_vec4) * HistogramRows(h), kHistVec4PerGroup),
+             mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   const std::uint32_t select_push[6] = {uw, uh, static_cast<std::uint32_t>(need),
                                         static_cast<std::uint32_t>(options.canny_low_permille),

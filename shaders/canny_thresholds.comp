@@ -1,10 +1,11 @@
 // canny_thresholds: the gradient-magnitude histogram and the automatic thresholds
 // (kernels/canny_thresholds.h). Integer only. One SPIR-V module, two pipelines (spec constant MODE):
 //
-// MODE 0, histogram: hist[m] += #{pixels with mag == m}, over the in-row pixels of sobel.comp's
-//   packed int16 dx, dy (rows of pc.d uvec4; mag = |dx| + |dy|). Each workgroup counts 256 * 64
-//   pixels into a shared histogram and adds its non-zero bins to binding 4 with atomics, so the
-//   counts are exact whatever the order. Binding 4 must be zeroed before (vkCmdFillBuffer).
+// MODE 0, histogram: hist[m] += #{pixels with mag == m}, over the in-row pixels of every
+//   kRowStep-th row (kHistogramRowStep) of sobel.comp's packed int16 dx, dy (rows of pc.d uvec4;
+//   mag = |dx| + |dy|). Each workgroup counts 256 * 64 pixels into a shared histogram and adds its
+//   non-zero bins to binding 4 with atomics, so the counts are exact whatever the order. Binding 4
+//   must be zeroed before (vkCmdFillBuffer).
 // MODE 1, select (one workgroup): the scalar rule
 //     high = max(min_high, smallest h with 1000 * #{mag <= h} >= high_permille * N),
 //     low  = high * low_permille / 1000,
@@ -18,6 +19,7 @@ layout(constant_id = 0) const uint MODE = 0u;
 const uint kBins = 2041u;            // kMaxMagnitude + 1
 const uint kWordsPerThread = 8u;     // a workgroup counts 256 * 8 * 8 pixels per shared histogram
 const uint kBinsPerThread = 8u;      // 256 * 8 >= 2041
+const uint kRowStep = 4u;            // kHistogramRowStep (kernels/canny_thresholds.h)
 
 layout(std430, set = 0, binding = 2) readonly buffer Dx { uvec4 dx[]; };  // sobel.comp layout
 layout(std430, set = 0, binding = 3) readonly buffer Dy { uvec4 dy[]; };
@@ -38,14 +40,15 @@ void Histogram() {
   barrier();
   uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
   uint per_row = pc.d;  // uvec4 (8 pixels) per row
-  uint total = per_row * pc.height;
+  uint total = per_row * ((pc.height + kRowStep - 1u) / kRowStep);  // uvec4 on the counted rows
   for (uint j = 0u; j < kWordsPerThread; ++j) {
     uint q = (group * kWordsPerThread + j) * 256u + lid;
     if (q >= total) continue;
-    uint y = q / per_row;
-    int inside = int(pc.width) - int(8u * (q - y * per_row));  // pixels of this uvec4 in the row
+    uint r = q / per_row, col = q - r * per_row;  // counted row r is row kRowStep * r
+    int inside = int(pc.width) - int(8u * col);   // pixels of this uvec4 in the row
     // mag = |dx| + |dy| of pixels 0..3 (lo) and 4..7 (hi); pixels past the row end are skipped.
-    uvec4 gx = dx[q], gy = dy[q];
+    uint at = kRowStep * r * per_row + col;
+    uvec4 gx = dx[at], gy = dy[at];
     uvec4 lo = uvec4(abs(Lo16(gx)) + abs(Lo16(gy))), hi = uvec4(abs(Hi16(gx)) + abs(Hi16(gy)));
     bvec4 in_lo = lessThan(ivec4(0, 1, 2, 3), ivec4(inside)), in_hi = lessThan(ivec4(4, 5, 6, 7), ivec4(inside));
     if (in_lo.x) atomicAdd(local_hist[lo.x], 1u);

@@ -25,11 +25,10 @@
 #include <type_traits>
 #include <vector>
 
-#include "fit/curve_tracing.h"
 #include "kernels/arc_types.h"
-#include "kernels/canny_thresholds.h"
 #include "kernels/edge_sign.h"
 #include "tests/conformance_util.h"
+#include "tests/stage_test_util.h"
 
 namespace ellipsekit::conformance {
 
@@ -138,27 +137,7 @@ inline void AddCircle(std::int32_t cx, std::int32_t cy, int r, std::mt19937* rng
 // The curves of one image as the detector traces them (scalar edge stage, default options);
 // min_points 1 keeps every curve, not only those the detector keeps.
 inline Curves CurvesOfImage(const cv::Mat& m, int min_points) {
-  const KernelTable& k = ScalarKernels();
-  const Options o;
-  const int w = m.cols, h = m.rows;
-  const std::size_t n = static_cast<std::size_t>(w) * h;
-  std::vector<std::uint8_t> blurred(n), nms(n), edges(n);
-  std::vector<std::int16_t> dx(n), dy(n);
-  std::vector<std::uint16_t> mag(n);
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  std::vector<std::int32_t> stack(n);
-  k.gaussian(m.data, static_cast<std::ptrdiff_t>(m.step), w, h, blurred.data(), w);
-  k.sobel(blurred.data(), w, w, h, dx.data(), dy.data(), mag.data(), w);
-  k.magnitude_histogram(mag.data(), w, h, w, hist.data());
-  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(n), o.canny_high_permille,
-                                                     o.canny_low_permille, o.canny_min_high);
-  k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
-  k.hysteresis(nms.data(), w, h, w, stack.data());
-  k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edges.data(), w);
-  Curves curves;
-  TraceScratch trace;
-  TraceCurves(edges.data(), w, dx.data(), dy.data(), w, w, h, min_points, &curves, &trace);
-  return curves;
+  return stage_test::ScalarCurves(stage_test::ViewOf(m), Options(), min_points);
 }
 
 inline const std::vector<CurveSet>& ArcCurveSets() {

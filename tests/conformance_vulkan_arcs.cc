@@ -26,41 +26,18 @@
 
 #include "ellipsekit/detector.h"
 #include "fit/arc_selection.h"
-#include "fit/curve_tracing.h"
 #include "kernels/arc_split.h"
 #include "kernels/arc_stats.h"
-#include "kernels/canny_thresholds.h"
-#include "kernels/edge_sign.h"
-#include "kernels/gaussian.h"
-#include "kernels/hysteresis.h"
-#include "kernels/nms.h"
 #include "kernels/polyline.h"
-#include "kernels/sobel.h"
 #include "runtime/vulkan_arc_stage.h"
+#include "tests/stage_test_util.h"
 
 namespace ellipsekit {
 namespace {
 
-// One stage for the whole binary (creating a device per test would dominate the run time).
-VulkanArcStage* Stage(std::string* why) {
-  static std::unique_ptr<VulkanArcStage> stage;
-  static Status status = VulkanArcStage::Create(&stage);
-  *why = status.message();
-  return stage.get();
-}
+using stage_test::ViewOf;
 
-bool InCi() {
-  const char* ci = std::getenv("CI");
-  return ci != nullptr && std::string(ci) == "true";
-}
-
-#define REQUIRE_VULKAN(stage)                                                            \
-  std::string why_;                                                                      \
-  VulkanArcStage* stage = Stage(&why_);                                                  \
-  if (stage == nullptr) {                                                                \
-    if (InCi()) FAIL() << "CI=true but no Vulkan arc stage: " << why_;                    \
-    GTEST_SKIP() << why_;                                                                \
-  }
+#define REQUIRE_VULKAN(stage) REQUIRE_VULKAN_STAGE(VulkanArcStage, stage, "Vulkan arc stage")
 
 struct ArcOutputs {
   Polylines polylines;
@@ -321,27 +298,11 @@ TEST(ConformanceVulkanArcs, RejectsMalformedCurves) {
   EXPECT_EQ(stage->Run(c, 16, SplitTanQ16(35), 3, &pl, &sp, &stats).code(), StatusCode::kInvalidArgument);
 }
 
-// The scalar edge stage and curve tracing exactly as runtime/detector.cc runs them.
+// The curves runtime/detector.cc fits arcs to: traced from the scalar edge stage, OBB-filtered.
 Curves DatasetCurves(const cv::Mat& gray, const Options& o) {
-  const int w = gray.cols, h = gray.rows;
-  const std::size_t n = static_cast<std::size_t>(w) * h;
-  std::vector<std::uint8_t> blurred(n), nms(n), edges(n);
-  std::vector<std::int16_t> dx(n), dy(n);
-  std::vector<std::uint16_t> mag(n);
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  std::vector<std::int32_t> stack(n);
-  scalar::Gaussian(gray.data, static_cast<std::ptrdiff_t>(gray.step), w, h, blurred.data(), w);
-  scalar::Sobel(blurred.data(), w, w, h, dx.data(), dy.data(), mag.data(), w);
-  scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
-  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(n), o.canny_high_permille,
-                                                     o.canny_low_permille, o.canny_min_high);
-  scalar::Nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
-  scalar::Hysteresis(nms.data(), w, h, w, stack.data());
-  scalar::EdgeSign(nms.data(), w, dx.data(), dy.data(), w, w, h, edges.data(), w);
-  Curves curves, scratch;
-  TraceScratch trace;
+  Curves curves = stage_test::ScalarCurves(ViewOf(gray), o, o.min_curve_points);
+  Curves scratch;
   std::vector<std::int64_t> hull;
-  TraceCurves(edges.data(), w, dx.data(), dy.data(), w, w, h, o.min_curve_points, &curves, &trace);
   FilterCurvesByObb(o, &curves, &hull, &scratch);
   return curves;
 }
@@ -383,7 +344,7 @@ void ExpectSameEllipses(Detector* vulkan, Detector* reference, int* images, int*
   for (const auto& f : DatasetImages()) {
     const cv::Mat gray = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
     if (gray.empty()) continue;
-    const ImageView view{gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)};
+    const ImageView view = ViewOf(gray);
     DetectionResult want, got;
     ASSERT_TRUE(reference->detect(view, &want).ok()) << f;
     const Status st = vulkan->detect(view, &got);

@@ -12,7 +12,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,69 +19,17 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "ellipsekit/options.h"
-#include "kernels/canny_thresholds.h"
-#include "kernels/edge_sign.h"
-#include "kernels/gaussian.h"
-#include "kernels/hysteresis.h"
-#include "kernels/nms.h"
-#include "kernels/sobel.h"
 #include "runtime/vulkan_edge_stage.h"
+#include "tests/stage_test_util.h"
 
 namespace ellipsekit {
 namespace {
 
-struct Edges {
-  std::vector<std::int16_t> dx, dy;
-  std::vector<std::uint8_t> edge_map;
-};
+using stage_test::Edges;
+using stage_test::ScalarEdges;
+using stage_test::ViewOf;
 
-// The scalar edge stage exactly as runtime/detector.cc runs it.
-void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
-  const int w = image.width, h = image.height;
-  const std::size_t n = static_cast<std::size_t>(w) * h;
-  std::vector<std::uint8_t> blurred(n), nms(n);
-  std::vector<std::uint16_t> mag(n);
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  std::vector<std::int32_t> stack(n);
-  out->dx.assign(n, 0);
-  out->dy.assign(n, 0);
-  out->edge_map.assign(n, 0);
-  const std::uint8_t* src = image.data;
-  std::ptrdiff_t src_stride = image.stride;
-  if (o.gaussian_blur) {
-    scalar::Gaussian(image.data, image.stride, w, h, blurred.data(), w);
-    src = blurred.data();
-    src_stride = w;
-  }
-  scalar::Sobel(src, src_stride, w, h, out->dx.data(), out->dy.data(), mag.data(), w);
-  scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
-  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), static_cast<std::int64_t>(n), o.canny_high_permille,
-                                                     o.canny_low_permille, o.canny_min_high);
-  scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
-  scalar::Hysteresis(nms.data(), w, h, w, stack.data());
-  scalar::EdgeSign(nms.data(), w, out->dx.data(), out->dy.data(), w, w, h, out->edge_map.data(), w);
-}
-
-// One stage for the whole binary (creating a device per test would dominate the run time).
-VulkanEdgeStage* Stage(std::string* why) {
-  static std::unique_ptr<VulkanEdgeStage> stage;
-  static Status status = VulkanEdgeStage::Create(&stage);
-  *why = status.message();
-  return stage.get();
-}
-
-bool InCi() {
-  const char* ci = std::getenv("CI");
-  return ci != nullptr && std::string(ci) == "true";
-}
-
-#define REQUIRE_VULKAN(stage)                                                            \
-  std::string why_;                                                                      \
-  VulkanEdgeStage* stage = Stage(&why_);                                                 \
-  if (stage == nullptr) {                                                                \
-    if (InCi()) FAIL() << "CI=true but no Vulkan device: " << why_;                       \
-    GTEST_SKIP() << why_;                                                                \
-  }
+#define REQUIRE_VULKAN(stage) REQUIRE_VULKAN_STAGE(VulkanEdgeStage, stage, "Vulkan device")
 
 // First mismatch, for a readable failure.
 template <typename T>
@@ -228,8 +175,7 @@ TEST(ConformanceVulkanEdge, DatasetImages) {
     for (const fs::path& f : files) {
       const cv::Mat gray = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
       if (gray.empty()) continue;
-      ExpectSameBothBlurs(stage, ImageView{gray.data, gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step)},
-                          f.string());
+      ExpectSameBothBlurs(stage, ViewOf(gray), f.string());
       ++count;
     }
   }

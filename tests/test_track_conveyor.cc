@@ -17,27 +17,20 @@
 
 #include <opencv2/core.hpp>
 
+#include "robot/testing/synthetic.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
 
 namespace sc = ellipsekit::scenes;
 namespace fs = std::filesystem;
+using ellipsekit::robot::testing::Percentile;  // p in percent
 
 // The CLI sits beside the test executables (CMAKE_RUNTIME_OUTPUT_DIRECTORY).
 fs::path CliPath() {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   return ec ? fs::path() : self.parent_path() / "ellipsekit";
-}
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const std::size_t i = static_cast<std::size_t>(pos);
-  const double f = pos - static_cast<double>(i);
-  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
 }
 
 struct TrackOut {
@@ -141,15 +134,15 @@ TEST_P(TrackConveyor, SpeedGraspAndPosition) {
       pre_err.push_back(std::abs(cv::norm(f.pregrasp - f.position) - 0.10));
     }
   }
-  const double speed_med = Percentile(speed_err, 0.5), grasp_med = Percentile(grasp_err, 0.5),
-               grasp_p95 = Percentile(grasp_err, 0.95), pos_med = Percentile(pos_err, 0.5);
+  const double speed_med = Percentile(speed_err, 50), grasp_med = Percentile(grasp_err, 50),
+               grasp_p95 = Percentile(grasp_err, 95), pos_med = Percentile(pos_err, 50);
   std::printf(
       "speed %.3f m/s (guide %.3f m, turn at %.2f s): tracked %d/%d frames, can track ids %zu; speed error median "
       "%.2f %% (p95 %.2f %%, %zu frames); grasp target error median %.2f mm, p95 %.2f mm (%zu grasps); position "
       "error median %.2f mm, p95 %.2f mm\n",
       speed, info.length_m, info.length_m / speed, tracked, co.frames, can_ids.size(), 100 * speed_med,
-      100 * Percentile(speed_err, 0.95), speed_err.size(), 1000 * grasp_med, 1000 * grasp_p95, grasp_err.size(),
-      1000 * pos_med, 1000 * Percentile(pos_err, 0.95));
+      100 * Percentile(speed_err, 95), speed_err.size(), 1000 * grasp_med, 1000 * grasp_p95, grasp_err.size(),
+      1000 * pos_med, 1000 * Percentile(pos_err, 95));
   EXPECT_GE(tracked, static_cast<int>(0.9 * co.frames));
   EXPECT_EQ(can_ids.size(), 1u);
   ASSERT_FALSE(speed_err.empty());
@@ -158,8 +151,8 @@ TEST_P(TrackConveyor, SpeedGraspAndPosition) {
   EXPECT_LE(grasp_med, 0.005);
   EXPECT_LE(grasp_p95, 0.010);
   EXPECT_LE(pos_med, 0.005);
-  EXPECT_LE(Percentile(lead_err, 1.0), 1e-4);
-  EXPECT_LE(Percentile(pre_err, 1.0), 1e-4);
+  EXPECT_LE(Percentile(lead_err, 100), 1e-4);
+  EXPECT_LE(Percentile(pre_err, 100), 1e-4);
   fs::remove_all(dir);
 }
 

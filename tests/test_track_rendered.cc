@@ -30,6 +30,7 @@
 #include "ellipsekit/robot/conic.h"
 #include "ellipsekit/robot/depth_sampling.h"
 #include "ellipsekit/robot/tracker.h"
+#include "robot/testing/synthetic.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
@@ -37,15 +38,7 @@ namespace {
 namespace sc = ellipsekit::scenes;
 namespace er = ellipsekit::robot;
 using ellipsekit::Ellipse;
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const std::size_t i = static_cast<std::size_t>(pos);
-  const double f = pos - static_cast<double>(i);
-  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
-}
+using er::testing::Percentile;  // p in percent
 
 // Camera, its pose and the table normal of a generated sequence.
 struct Rig {
@@ -210,10 +203,10 @@ TEST(TrackRendered, StaticStackTopCentreAveraged) {
                   frames.back().truth[static_cast<std::size_t>(k)].a, n, frames.size(), e_mm);
     }
   }
-  const double med = Percentile(err_mm, 0.5);
+  const double med = Percentile(err_mm, 50);
   std::printf("[rendered] static stack: %d/%d cans tracked; 20-detection average error median %.2f mm, max %.2f mm; "
               "single detections median %.2f mm, p95 %.2f mm\n",
-              found, cans, med, Percentile(err_mm, 1.0), Percentile(single_mm, 0.5), Percentile(single_mm, 0.95));
+              found, cans, med, Percentile(err_mm, 100), Percentile(single_mm, 50), Percentile(single_mm, 95));
   RecordProperty("static_error_mm_median", std::to_string(med));
   EXPECT_LE(med, 3.0);
 }
@@ -286,17 +279,17 @@ TEST(TrackRendered, CirclePoseFromOneDetectedEllipse) {
     });
     ASSERT_TRUE(st.ok()) << st.message();
   }
-  const double c50 = Percentile(centre_pct, 0.5), c95 = Percentile(centre_pct, 0.95);
-  const double n50 = Percentile(normal_deg, 0.5), n95 = Percentile(normal_deg, 0.95);
+  const double c50 = Percentile(centre_pct, 50), c95 = Percentile(centre_pct, 95);
+  const double n50 = Percentile(normal_deg, 50), n95 = Percentile(normal_deg, 95);
   std::printf("[rendered] circle pose: %zu/%d tops detected; distance %.2f-%.2f m (median %.2f), true semi-major "
               "axis %.1f-%.1f px (median %.1f); centre error %% of distance median %.2f p95 %.2f max %.2f; signed "
               "distance error median %.2f %%; normal error deg median %.2f p95 %.2f max %.2f\n",
-              centre_pct.size(), tops, Percentile(dist_m, 0), Percentile(dist_m, 1), Percentile(dist_m, 0.5),
-              Percentile(axis_px, 0), Percentile(axis_px, 1), Percentile(axis_px, 0.5), c50, c95,
-              Percentile(centre_pct, 1), Percentile(signed_pct, 0.5), n50, n95, Percentile(normal_deg, 1));
+              centre_pct.size(), tops, Percentile(dist_m, 0), Percentile(dist_m, 100), Percentile(dist_m, 50),
+              Percentile(axis_px, 0), Percentile(axis_px, 100), Percentile(axis_px, 50), c50, c95,
+              Percentile(centre_pct, 100), Percentile(signed_pct, 50), n50, n95, Percentile(normal_deg, 100));
   std::printf("[rendered] circle pose: %d of %zu detections are an inner circle of the lid (rim ring or groove); "
               "assuming the outer radius for every detection instead: centre error %% median %.2f p95 %.2f\n",
-              inner_rim, centre_pct.size(), Percentile(outer_pct, 0.5), Percentile(outer_pct, 0.95));
+              inner_rim, centre_pct.size(), Percentile(outer_pct, 50), Percentile(outer_pct, 95));
   RecordProperty("circle_centre_pct_median", std::to_string(c50));
   RecordProperty("circle_centre_pct_p95", std::to_string(c95));
   RecordProperty("circle_normal_deg_median", std::to_string(n50));

@@ -69,6 +69,13 @@ struct Camera {
     return cv::Matx33d(right.x, right.y, right.z, down.x, down.y, down.z, fwd.x, fwd.y, fwd.z);
   }
   cv::Vec3d T() const { return -(R() * cv::Vec3d(pos.x, pos.y, pos.z)); }
+  // T_world_camera: camera coordinates to world coordinates.
+  cv::Matx44d WorldFromCamera() const {
+    return cv::Matx44d(right.x, down.x, fwd.x, pos.x,  //
+                       right.y, down.y, fwd.y, pos.y,  //
+                       right.z, down.z, fwd.z, pos.z,  //
+                       0, 0, 0, 1);
+  }
 };
 
 // Image bounding rectangle (expanded by `pad` px, clipped to the image) of a set of world points;
@@ -144,6 +151,26 @@ struct Cylinder {
   IRect shadow_bbox;
   ellipsekit::Ellipse truth;
 };
+
+// The sequence cans' derived shape from r: r^2, the inner radius 3 mm in, the inner floor height.
+void SetCanShape(Cylinder* c) {
+  c->r2 = c->r * c->r;
+  c->r_in = c->r - 0.003;
+  c->r_in2 = c->r_in * c->r_in;
+  c->z_floor = 0.01;
+}
+
+// What a moving cylinder changes in a frame: its bounding box and its shadow's (when not empty).
+IRect RedrawRect(const Cylinder& c) {
+  IRect r = c.bbox;
+  if (c.shadow_bbox.x1 >= c.shadow_bbox.x0 && c.shadow_bbox.y1 >= c.shadow_bbox.y0) {
+    r.x0 = std::min(r.x0, c.shadow_bbox.x0);
+    r.y0 = std::min(r.y0, c.shadow_bbox.y0);
+    r.x1 = std::max(r.x1, c.shadow_bbox.x1);
+    r.y1 = std::max(r.y1, c.shadow_bbox.y1);
+  }
+  return r;
+}
 
 struct Box {
   double x = 0, y = 0, c = 1, s = 0, hx = 0.05, hy = 0.05, hz = 0.05, bound_r = 0;
@@ -249,6 +276,9 @@ class World {
   void ColorCylinder(Cylinder* c);
   bool ComputeTruth(Cylinder* c) const;
   void FinishCylinderBounds(Cylinder* c) const;
+  bool TopFitsAt(Cylinder c, double x, double y) const;
+  bool MoveTopTo(const cv::Vec3d& top, Cylinder* c) const;
+  V3 RandomRowDirection(double max_deg);
   double RimVisibleFraction(int i, bool stop_early_below, double thr) const;
   void FixContrast();
   double ContrastPassFraction(int i) const;
@@ -562,6 +592,38 @@ void World::FinishCylinderBounds(Cylinder* c) const {
   c->shadow.Add(c->x + ox, c->y + oy);
   c->shadow.Grow(c->r + 0.035 + penumbra_ * c->h / light_.z);  // + penumbra and contact darkening
   c->shadow_bbox = ProjectTableRect(cam_, c->shadow, W_, H_);
+}
+
+// Whether c, moved to (x, y), stays clear of the wall and shows a top ellipse with b >= 4 px whose
+// bounding box lies at least 12 px inside the image.
+bool World::TopFitsAt(Cylinder c, double x, double y) const {
+  c.x = x;
+  c.y = y;
+  if (has_wall_ && c.x + c.r > wall_x_ - 0.01) return false;
+  if (!ComputeTruth(&c)) return false;
+  const ellipsekit::Ellipse& e = c.truth;
+  const double ct = std::cos(e.theta), st = std::sin(e.theta);
+  const double ex = std::sqrt(e.a * e.a * ct * ct + e.b * e.b * st * st);
+  const double ey = std::sqrt(e.a * e.a * st * st + e.b * e.b * ct * ct);
+  const double m = 12;
+  return e.b >= 4 && e.cx - ex >= m && e.cx + ex <= W_ - 1 - m && e.cy - ey >= m && e.cy + ey <= H_ - 1 - m;
+}
+
+// Moves c so its top centre is above (top[0], top[1]); recomputes its ellipse and bounds. False
+// when the top ellipse is degenerate.
+bool World::MoveTopTo(const cv::Vec3d& top, Cylinder* c) const {
+  c->x = top[0];
+  c->y = top[1];
+  if (!ComputeTruth(c)) return false;
+  FinishCylinderBounds(c);
+  return true;
+}
+
+// A horizontal unit vector within max_deg of the image rows (one draw from rng_).
+V3 World::RandomRowDirection(double max_deg) {
+  const double ang = rng_.Uniform(-max_deg, max_deg) * kPi / 180;
+  const V3 h0 = Normalize(V3{cam_.right.x, cam_.right.y, 0});
+  return V3{h0.x * std::cos(ang) - h0.y * std::sin(ang), h0.x * std::sin(ang) + h0.y * std::cos(ang), 0};
 }
 
 double World::RimVisibleFraction(int i, bool stop_early_below, double thr) const {
@@ -1141,150 +1203,6 @@ Scene World::Build() {
   return scene;
 }
 
-ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uint64_t seed, ConveyorSequence* info,
-                                        const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink) {
-  using ellipsekit::Status;
-  using ellipsekit::StatusCode;
-  no_boxes_ = true;
-  SetupCamera();
-  SetupLightAndSurfaces();
-
-  Cylinder can;
-  can.kind = CylKind::kCan;
-  can.r = rng_.Uniform(0.03, 0.04);
-  can.h = rng_.Uniform(0.08, 0.12);
-  can.r2 = can.r * can.r;
-  can.r_in = can.r - 0.003;
-  can.r_in2 = can.r_in * can.r_in;
-  can.z_floor = 0.01;
-  ColorCylinder(&can);
-
-  // The guide: through the table point below the image centre, roughly along the image rows.
-  V3 mid;
-  if (!TablePointAt(cam_.pcx, cam_.pcy, can.h, &mid))
-    return Status(StatusCode::kInternal, "conveyor: the camera does not see the table");
-  const double ang = rng_.Uniform(-25, 25) * kPi / 180;
-  const V3 h0 = Normalize(V3{cam_.right.x, cam_.right.y, 0});
-  const V3 dir{h0.x * std::cos(ang) - h0.y * std::sin(ang), h0.x * std::sin(ang) + h0.y * std::cos(ang), 0};
-  auto fits = [&](double s) {
-    Cylinder c = can;
-    c.x = mid.x + dir.x * s;
-    c.y = mid.y + dir.y * s;
-    if (has_wall_ && c.x + c.r > wall_x_ - 0.01) return false;
-    if (!ComputeTruth(&c)) return false;
-    const ellipsekit::Ellipse& e = c.truth;
-    const double ct = std::cos(e.theta), st = std::sin(e.theta);
-    const double ex = std::sqrt(e.a * e.a * ct * ct + e.b * e.b * st * st);
-    const double ey = std::sqrt(e.a * e.a * st * st + e.b * e.b * ct * ct);
-    const double m = 12;
-    return e.b >= 4 && e.cx - ex >= m && e.cx + ex <= W_ - 1 - m && e.cy - ey >= m && e.cy + ey <= H_ - 1 - m;
-  };
-  double L = co.guide_length_m;
-  for (int k = 0; k < 60 && !(fits(-0.5 * L) && fits(0.5 * L)); ++k) L *= 0.93;
-  if (!(fits(-0.5 * L) && fits(0.5 * L)))
-    return Status(StatusCode::kInternal, "conveyor: the can does not fit in the image (image too small?)");
-  const V3 start{mid.x - dir.x * 0.5 * L, mid.y - dir.y * 0.5 * L, can.h};
-  const V3 end{mid.x + dir.x * 0.5 * L, mid.y + dir.y * 0.5 * L, can.h};
-
-  PlaceClutter();
-  can.x = start.x;
-  can.y = start.y;
-  ComputeTruth(&can);
-  FinishCylinderBounds(&can);
-  cyl_.push_back(can);
-  FixContrast();
-  can = cyl_[0];
-
-  // The static world (everything but the can) once; each frame re-renders only the can's region
-  // (its bounding box and its shadow's), which the can does not affect outside.
-  cyl_.clear();
-  std::vector<float> bg;
-  Render(&bg);
-  std::vector<double> bgz(static_cast<size_t>(W_) * H_, 0.0);
-  RenderDepth(IRect{0, 0, W_ - 1, H_ - 1}, &bgz);
-  cyl_.push_back(can);
-
-  ConveyorSequence seq;
-  seq.width = W_;
-  seq.height = H_;
-  seq.K = cam_.K();
-  seq.T_world_camera = cv::Matx44d(cam_.right.x, cam_.down.x, cam_.fwd.x, cam_.pos.x,  //
-                                   cam_.right.y, cam_.down.y, cam_.fwd.y, cam_.pos.y,  //
-                                   cam_.right.z, cam_.down.z, cam_.fwd.z, cam_.pos.z,  //
-                                   0, 0, 0, 1);
-  seq.start_point = cv::Vec3d(start.x, start.y, start.z);
-  seq.end_point = cv::Vec3d(end.x, end.y, end.z);
-  double u, v;
-  cam_.Project(start, &u, &v);
-  seq.start_pixel = cv::Vec2d(u, v);
-  cam_.Project(end, &u, &v);
-  seq.end_pixel = cv::Vec2d(u, v);
-  seq.speed_m_s = co.speed_m_s;
-  seq.length_m = L;
-  seq.radius_m = can.r;
-  seq.height_m = can.h;
-  seq.fps = co.fps;
-  seq.frames = co.frames;
-  if (info != nullptr) *info = seq;
-
-  Rng drng(Mix64(seed ^ 0x6A09E667F3BCC909ull));
-  std::vector<float> img;
-  std::vector<double> z;
-  for (int i = 0; i < co.frames; ++i) {
-    ConveyorFrame fr;
-    fr.index = i;
-    fr.t = i / co.fps;
-    const cv::Vec3d p = seq.TopCentreAt(fr.t);
-    Cylinder& c = cyl_[0];
-    c.x = p[0];
-    c.y = p[1];
-    if (!ComputeTruth(&c)) return Status(StatusCode::kInternal, "conveyor: degenerate top ellipse");
-    FinishCylinderBounds(&c);
-    IRect r = c.bbox;
-    if (c.shadow_bbox.x1 >= c.shadow_bbox.x0 && c.shadow_bbox.y1 >= c.shadow_bbox.y0) {
-      r.x0 = std::min(r.x0, c.shadow_bbox.x0);
-      r.y0 = std::min(r.y0, c.shadow_bbox.y0);
-      r.x1 = std::max(r.x1, c.shadow_bbox.x1);
-      r.y1 = std::max(r.y1, c.shadow_bbox.y1);
-    }
-    img = bg;
-    RenderRect(r, &img);
-    z = bgz;
-    RenderDepth(r, &z);
-    Finish(img, &fr.gray);
-    fr.depth_mm.create(H_, W_, CV_16UC1);
-    for (int y = 0; y < H_; ++y) {
-      std::uint16_t* dst = fr.depth_mm.ptr<std::uint16_t>(y);
-      for (int x = 0; x < W_; ++x) {
-        const double zz = z[static_cast<size_t>(y) * W_ + x];
-        // Draw the random numbers for every pixel, so the noise does not depend on the content.
-        const double n = drng.Normal(), drop = drng.Uniform(), edge_drop = drng.Uniform();
-        if (!(zz > 0)) {
-          dst[x] = 0;
-          continue;
-        }
-        double jump = 0;
-        if (x > 0) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y) * W_ + x - 1]));
-        if (x + 1 < W_) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y) * W_ + x + 1]));
-        if (y > 0) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y - 1) * W_ + x]));
-        if (y + 1 < H_) jump = std::max(jump, std::abs(zz - z[static_cast<size_t>(y + 1) * W_ + x]));
-        if (drop < co.depth_invalid_fraction || (jump > 0.02 && edge_drop < 0.5)) {
-          dst[x] = 0;
-          continue;
-        }
-        const double mm = zz * 1000 + co.depth_noise_mm * (1 + zz * zz) * n;
-        dst[x] = static_cast<std::uint16_t>(Clamp(std::floor(mm + 0.5), 1.0, 65535.0));
-      }
-    }
-    fr.top_centre = p;
-    cam_.Project(V3{p[0], p[1], p[2]}, &u, &v);
-    fr.top_pixel = cv::Vec2d(u, v);
-    fr.truth = c.truth;
-    if (ellipsekit::Status st = sink(fr); !st.ok()) return st;
-  }
-  return Status::Ok();
-}
-
 // Depth as a sensor reads it (see ConveyorSceneOptions): Gaussian noise growing with z^2, 1 mm
 // steps, a share of dropped pixels and about half of the pixels at depth jumps > 2 cm dropped.
 // Draws the same random numbers for every pixel, so the noise does not depend on the content.
@@ -1316,6 +1234,98 @@ void DegradeDepth(const std::vector<double>& z, int W, int H, double noise_mm, d
   }
 }
 
+ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uint64_t seed, ConveyorSequence* info,
+                                        const std::function<ellipsekit::Status(const ConveyorFrame&)>& sink) {
+  using ellipsekit::Status;
+  using ellipsekit::StatusCode;
+  no_boxes_ = true;
+  SetupCamera();
+  SetupLightAndSurfaces();
+
+  Cylinder can;
+  can.kind = CylKind::kCan;
+  can.r = rng_.Uniform(0.03, 0.04);
+  can.h = rng_.Uniform(0.08, 0.12);
+  SetCanShape(&can);
+  ColorCylinder(&can);
+
+  // The guide: through the table point below the image centre, roughly along the image rows.
+  V3 mid;
+  if (!TablePointAt(cam_.pcx, cam_.pcy, can.h, &mid))
+    return Status(StatusCode::kInternal, "conveyor: the camera does not see the table");
+  const V3 dir = RandomRowDirection(25);
+  auto fits = [&](double s) { return TopFitsAt(can, mid.x + dir.x * s, mid.y + dir.y * s); };
+  double L = co.guide_length_m;
+  for (int k = 0; k < 60 && !(fits(-0.5 * L) && fits(0.5 * L)); ++k) L *= 0.93;
+  if (!(fits(-0.5 * L) && fits(0.5 * L)))
+    return Status(StatusCode::kInternal, "conveyor: the can does not fit in the image (image too small?)");
+  const V3 start{mid.x - dir.x * 0.5 * L, mid.y - dir.y * 0.5 * L, can.h};
+  const V3 end{mid.x + dir.x * 0.5 * L, mid.y + dir.y * 0.5 * L, can.h};
+
+  PlaceClutter();
+  can.x = start.x;
+  can.y = start.y;
+  ComputeTruth(&can);
+  FinishCylinderBounds(&can);
+  cyl_.push_back(can);
+  FixContrast();
+  can = cyl_[0];
+
+  // The static world (everything but the can) once; each frame re-renders only the can's region
+  // (its bounding box and its shadow's), which the can does not affect outside.
+  cyl_.clear();
+  std::vector<float> bg;
+  Render(&bg);
+  std::vector<double> bgz(static_cast<size_t>(W_) * H_, 0.0);
+  RenderDepth(IRect{0, 0, W_ - 1, H_ - 1}, &bgz);
+  cyl_.push_back(can);
+
+  ConveyorSequence seq;
+  seq.width = W_;
+  seq.height = H_;
+  seq.K = cam_.K();
+  seq.T_world_camera = cam_.WorldFromCamera();
+  seq.start_point = cv::Vec3d(start.x, start.y, start.z);
+  seq.end_point = cv::Vec3d(end.x, end.y, end.z);
+  double u, v;
+  cam_.Project(start, &u, &v);
+  seq.start_pixel = cv::Vec2d(u, v);
+  cam_.Project(end, &u, &v);
+  seq.end_pixel = cv::Vec2d(u, v);
+  seq.speed_m_s = co.speed_m_s;
+  seq.length_m = L;
+  seq.radius_m = can.r;
+  seq.height_m = can.h;
+  seq.fps = co.fps;
+  seq.frames = co.frames;
+  if (info != nullptr) *info = seq;
+
+  Rng drng(Mix64(seed ^ 0x6A09E667F3BCC909ull));
+  std::vector<float> img;
+  std::vector<double> z;
+  for (int i = 0; i < co.frames; ++i) {
+    ConveyorFrame fr;
+    fr.index = i;
+    fr.t = i / co.fps;
+    const cv::Vec3d p = seq.TopCentreAt(fr.t);
+    Cylinder& c = cyl_[0];
+    if (!MoveTopTo(p, &c)) return Status(StatusCode::kInternal, "conveyor: degenerate top ellipse");
+    const IRect r = RedrawRect(c);
+    img = bg;
+    RenderRect(r, &img);
+    z = bgz;
+    RenderDepth(r, &z);
+    Finish(img, &fr.gray);
+    DegradeDepth(z, W_, H_, co.depth_noise_mm, co.depth_invalid_fraction, &drng, &fr.depth_mm);
+    fr.top_centre = p;
+    cam_.Project(V3{p[0], p[1], p[2]}, &u, &v);
+    fr.top_pixel = cv::Vec2d(u, v);
+    fr.truth = c.truth;
+    if (ellipsekit::Status st = sink(fr); !st.ok()) return st;
+  }
+  return Status::Ok();
+}
+
 ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t seed, CanSequence* info,
                                     const std::function<ellipsekit::Status(const CanFrame&)>& sink) {
   using ellipsekit::Status;
@@ -1331,39 +1341,18 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
     ColorCylinder(&c);
   }
   if (crossing) cans[0].h = cans[1].h + co.crossing_height_difference_m;
-  for (Cylinder& c : cans) {
-    c.r2 = c.r * c.r;
-    c.r_in = c.r - 0.003;
-    c.r_in2 = c.r_in * c.r_in;
-    c.z_floor = 0.01;
-  }
+  for (Cylinder& c : cans) SetCanShape(&c);
   // The camera height from the distance to the tops along the optical axis.
   const double d = rng_.Uniform(co.min_distance_m, co.max_distance_m);
   const double h_ref = crossing ? cans[1].h : 0.5 * (cans[0].h + cans[1].h);
   cam_.pos.z = h_ref + d * -cam_.fwd.z;
   SetupLightAndSurfaces();
 
-  auto fits = [&](Cylinder c, double x, double y) {
-    c.x = x;
-    c.y = y;
-    if (has_wall_ && c.x + c.r > wall_x_ - 0.01) return false;
-    if (!ComputeTruth(&c)) return false;
-    const ellipsekit::Ellipse& e = c.truth;
-    const double ct = std::cos(e.theta), st = std::sin(e.theta);
-    const double ex = std::sqrt(e.a * e.a * ct * ct + e.b * e.b * st * st);
-    const double ey = std::sqrt(e.a * e.a * st * st + e.b * e.b * ct * ct);
-    const double m = 12;
-    return e.b >= 4 && e.cx - ex >= m && e.cx + ex <= W_ - 1 - m && e.cy - ey >= m && e.cy + ey <= H_ - 1 - m;
-  };
-
   CanSequence seq;
   seq.width = W_;
   seq.height = H_;
   seq.K = cam_.K();
-  seq.T_world_camera = cv::Matx44d(cam_.right.x, cam_.down.x, cam_.fwd.x, cam_.pos.x,  //
-                                   cam_.right.y, cam_.down.y, cam_.fwd.y, cam_.pos.y,  //
-                                   cam_.right.z, cam_.down.z, cam_.fwd.z, cam_.pos.z,  //
-                                   0, 0, 0, 1);
+  seq.T_world_camera = cam_.WorldFromCamera();
   seq.fps = co.fps;
   seq.frames = co.frames;
   if (!crossing) {
@@ -1375,7 +1364,7 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
       for (int k = 0; k < 2 && ok; ++k) {
         const double u = (k == 0 ? 0.7 : 0.3) * W_ + rng_.Uniform(-0.08, 0.08) * W_;
         const double v = rng_.Uniform(0.35, 0.65) * H_;
-        ok = TablePointAt(u, v, cans[k].h, &p[k]) && fits(cans[k], p[k].x, p[k].y);
+        ok = TablePointAt(u, v, cans[k].h, &p[k]) && TopFitsAt(cans[k], p[k].x, p[k].y);
       }
       if (!ok || std::hypot(p[0].x - p[1].x, p[0].y - p[1].y) < cans[0].r + cans[1].r + 0.01) continue;
       for (int k = 0; k < 2; ++k) {
@@ -1397,17 +1386,15 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
     V3 mid;
     if (!TablePointAt(cam_.pcx, cam_.pcy, cans[1].h, &mid))
       return Status(StatusCode::kInternal, "can scene: the camera does not see the table");
-    const double ang = rng_.Uniform(-15, 15) * kPi / 180;
-    const V3 h0 = Normalize(V3{cam_.right.x, cam_.right.y, 0});
-    const V3 dir{h0.x * std::cos(ang) - h0.y * std::sin(ang), h0.x * std::sin(ang) + h0.y * std::cos(ang), 0};
+    const V3 dir = RandomRowDirection(15);
     V3 nrm{-dir.y, dir.x, 0};
     if (Dot(nrm, V3{cam_.fwd.x, cam_.fwd.y, 0}) > 0) nrm = nrm * -1.0;  // towards the camera
     const double off = 0.5 * (cans[0].r + cans[1].r + co.lane_gap_m);
     const double L = co.speed_m_s * (co.frames - 1) / co.fps;
     const V3 s0 = mid + nrm * off - dir * (0.5 * L), s1 = mid - nrm * off + dir * (0.5 * L);
     const V3 e0 = s0 + dir * L, e1 = s1 - dir * L;
-    if (!(fits(cans[0], s0.x, s0.y) && fits(cans[0], e0.x, e0.y) && fits(cans[1], s1.x, s1.y) &&
-          fits(cans[1], e1.x, e1.y)))
+    if (!(TopFitsAt(cans[0], s0.x, s0.y) && TopFitsAt(cans[0], e0.x, e0.y) && TopFitsAt(cans[1], s1.x, s1.y) &&
+          TopFitsAt(cans[1], e1.x, e1.y)))
       return Status(StatusCode::kInternal,
                     "can scene: the crossing does not fit in the image (lower speed_m_s or frames)");
     seq.start_point.push_back(cv::Vec3d(s0.x, s0.y, cans[0].h));
@@ -1456,22 +1443,11 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
       img = bg;
       z = bgz;
       for (int k = 0; k < 2; ++k) {
-        const cv::Vec3d p = seq.TopCentreAt(k, fr.t);
-        Cylinder& c = cyl_[k];
-        c.x = p[0];
-        c.y = p[1];
-        if (!ComputeTruth(&c)) return Status(StatusCode::kInternal, "can scene: degenerate top ellipse");
-        FinishCylinderBounds(&c);
+        if (!MoveTopTo(seq.TopCentreAt(k, fr.t), &cyl_[k]))
+          return Status(StatusCode::kInternal, "can scene: degenerate top ellipse");
       }
       for (int k = 0; k < 2; ++k) {
-        const Cylinder& c = cyl_[k];
-        IRect r = c.bbox;
-        if (c.shadow_bbox.x1 >= c.shadow_bbox.x0 && c.shadow_bbox.y1 >= c.shadow_bbox.y0) {
-          r.x0 = std::min(r.x0, c.shadow_bbox.x0);
-          r.y0 = std::min(r.y0, c.shadow_bbox.y0);
-          r.x1 = std::max(r.x1, c.shadow_bbox.x1);
-          r.y1 = std::max(r.y1, c.shadow_bbox.y1);
-        }
+        const IRect r = RedrawRect(cyl_[k]);
         RenderRect(r, &img);
         RenderDepth(r, &z);
       }
