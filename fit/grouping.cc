@@ -51,14 +51,10 @@ double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& 
   return lo > 0 ? hi / lo : HUGE_VAL;
 }
 
-// Parameters (eqs. 8-12), the optional refit, then K(tau) > T_l (eq. 13) and psi (eq. 16).
-// On success *e holds the ellipse with score K + psi.
-bool FitAndValidate(const Curves& curves, const Arc* const* group, int count, const Eigen::Vector2d& center,
-                    const Options& options, GroupScratch* s, Ellipse* e) {
-  // The refit (our addition) takes the place of the estimate of eqs. 8-12 when it succeeds; it
-  // fits a true group to the pixel, so psi can be held to a much stricter bar (README: measured).
-  const bool refined = options.refine_fit && RefineEllipse(group, count, e);
-  if (!refined && !EstimateParameters(curves, group, count, center, &s->params, e)) return false;
+// K(tau) > T_l (eq. 13) and psi (eq. 16) on the fitted ellipse; on success e->score = K + psi.
+// A refitted ellipse fits the group to the pixel, so psi is held to a much stricter bar (README).
+bool Validate(const Curves& curves, const Arc* const* group, int count, bool refined, const Options& options,
+              Ellipse* e) {
   if (!(e->b >= 1.0)) return false;
   const double k = LengthRatio(group, count, *e);
   if (!(k > options.length_ratio)) return false;
@@ -121,13 +117,20 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
         if (stats->triplets >= options.max_triplets) { stats->caps_hit |= kCapTriplets; return; }
         ++stats->triplets;
         const Arc* group[3] = {&arcs[ab.prev], &arcs[b], &arcs[bc.next]};
-        bool ms_capped = false;
-        const Eigen::Vector2d center =
-            TripletCenter(*group[0], *group[1], *group[2], ab.center, bc.center, options, &ms_capped);
-        if (ms_capped) stats->caps_hit |= kCapMeanShift;
-        if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
+        // The refit (our addition) replaces the centre and parameters of eqs. 3-12 when it
+        // succeeds, and its centre is then the one Gamma is measured from; the mean-shift centre
+        // (Fig. 7) is computed only for the paper's path, where eqs. 8-12 need it.
         Ellipse e;
-        if (!FitAndValidate(curves, group, 3, center, options, s, &e)) continue;
+        const bool refined = options.refine_fit && RefineEllipse(group, 3, &e);
+        Eigen::Vector2d center(e.cx, e.cy);
+        if (!refined) {
+          bool ms_capped = false;
+          center = TripletCenter(*group[0], *group[1], *group[2], ab.center, bc.center, options, &ms_capped);
+          if (ms_capped) stats->caps_hit |= kCapMeanShift;
+        }
+        if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
+        if (!refined && !EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
+        if (!Validate(curves, group, 3, refined, options, &e)) continue;
         if (static_cast<int>(candidates->size()) >= options.max_candidates) {
           stats->caps_hit |= kCapCandidates;
           return;

@@ -14,19 +14,24 @@ double CircumferenceRatio(const Curves& curves, const Arc* const* arcs, int coun
                           InlierRule rule, double threshold) {
   const double c = std::cos(e.theta), s = std::sin(e.theta);
   const double ia2 = 1.0 / (e.a * e.a), ib2 = 1.0 / (e.b * e.b);
+  // kPixel: d = |f| / g with g = 2 |(xo / a^2, yo / b^2)| (eq. 15's first-order distance), tested
+  // as f^2 < 4 T_d^2 |(..)|^2: the same decision without a root or a division per point
+  // (g = 0 fails it, as d = inf does).
+  const double four_t2 = 4.0 * threshold * threshold;
   long total = 0, inliers = 0;
   for (int i = 0; i < count; ++i) {
+    total += arcs[i]->end - arcs[i]->begin + 1;
+    if (!(threshold > 0)) continue;  // d >= 0 is never below it
     for (int p = arcs[i]->begin; p <= arcs[i]->end; ++p) {
       const double dx = curves.x[p] - e.cx, dy = curves.y[p] - e.cy;
       const double xo = dx * c + dy * s, yo = dy * c - dx * s;  // eq. 14
       const double f = xo * xo * ia2 + yo * yo * ib2 - 1.0;
-      double d = std::abs(f);  // eq. 15
       if (rule == InlierRule::kPixel) {
-        const double g = 2.0 * std::hypot(xo * ia2, yo * ib2);
-        d = g > 0 ? d / g : HUGE_VAL;
+        const double u = xo * ia2, v = yo * ib2;
+        inliers += f * f < four_t2 * (u * u + v * v);
+      } else {
+        inliers += std::abs(f) < threshold;  // eq. 15
       }
-      ++total;
-      if (d < threshold) ++inliers;
     }
   }
   return total > 0 ? static_cast<double>(inliers) / static_cast<double>(total) : 0.0;
