@@ -14,6 +14,9 @@
 //   opencv/<sobel|canny|blur_canny>/<W>x<H>
 //   detect/<backend>/<prasad|scenes>/<image>   Detector::detect on the image at its own size
 //   opencv_canny_image/<prasad|scenes>/<image> cv::Canny on the same image
+//   detect/<backend>/scenes200, opencv_canny_image/scenes200
+//                                         one iteration = all 200 scenes of `ellipsekit scenes
+//                                         --count 200 --seed 7` (rendered on first use)
 // Test frames for kernels / edge stage: the first prasad image, resized (cv::resize) to each size,
 // so the edge density is realistic. OpenCV runs single-threaded (cv::setNumThreads(1)).
 #include <benchmark/benchmark.h>
@@ -581,6 +584,57 @@ void BM_CannyImage(benchmark::State& st, const Prepared* p) {
   SetRates(st, static_cast<std::int64_t>(p->w) * p->h, 2LL * p->w * p->h);
 }
 
+#ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
+// The 200 generated scenes and the Canny thresholds the edge stage picks on each (for the
+// baseline), made once, on first use, so runs that filter them out do not pay for them.
+struct SceneSet {
+  std::vector<cv::Mat> frames;
+  std::vector<ek::CannyThresholds> th;
+};
+const SceneSet& Scenes200() {
+  static const SceneSet set = [] {
+    SceneSet s;
+    Prepared p;
+    for (int i = 0; i < 200; ++i) {
+      s.frames.push_back(ek::scenes::RenderScene(ek::scenes::MixSeed(7, static_cast<std::uint64_t>(i))).gray);
+      PrepareFrom(s.frames.back(), &p);
+      s.th.push_back(p.th);
+    }
+    return s;
+  }();
+  return set;
+}
+
+void BM_DetectScenes200(benchmark::State& st, ek::Backend backend) {
+  ek::Detector* det = DetectorFor(backend);
+  if (!det->status().ok()) {
+    st.SkipWithError((std::string(ek::BackendName(backend)) + " unavailable: " + det->status().message()).c_str());
+    return;
+  }
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  ek::simd::ForceTarget(0);
+#endif
+  const SceneSet& set = Scenes200();
+  ek::DetectionResult r;
+  for (auto _ : st) {
+    for (const cv::Mat& f : set.frames) {
+      if (!det->detect(View(f), &r).ok()) { st.SkipWithError("detect failed"); return; }
+    }
+  }
+}
+
+void BM_CannyScenes200(benchmark::State& st) {
+  const SceneSet& set = Scenes200();
+  cv::Mat edges;
+  for (auto _ : st) {
+    for (std::size_t i = 0; i < set.frames.size(); ++i) {
+      cv::Canny(set.frames[i], edges, set.th[i].low, set.th[i].high, 3, false);
+      benchmark::DoNotOptimize(edges.data);
+    }
+  }
+}
+#endif
+
 std::vector<std::pair<std::string, cv::Mat>>& EndToEndImages(const std::string& set) {
   static std::map<std::string, std::vector<std::pair<std::string, cv::Mat>>> sets;
   return sets[set];
@@ -707,6 +761,15 @@ void Register() {
                                    [p](benchmark::State& st) { BM_CannyImage(st, p); })->UseRealTime();
     }
   }
+#ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
+  for (const auto& [b, bname] : backends) {
+    const ek::Backend backend = b;
+    benchmark::RegisterBenchmark(("detect/" + std::string(bname) + "/scenes200").c_str(),
+                                 [backend](benchmark::State& st) { BM_DetectScenes200(st, backend); })
+        ->UseRealTime();
+  }
+  benchmark::RegisterBenchmark("opencv_canny_image/scenes200", BM_CannyScenes200)->UseRealTime();
+#endif
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ellipsekit/detector.h"
@@ -34,7 +35,9 @@ const char kDetectUsage[] =
     "  # <image path> <number of ellipses> <median detect() ms>\n"
     "  cx cy a b theta            (one line per ellipse, best score first)\n"
     "json output: one array of {path, median_ms, backend, ellipses: [{cx, cy, a, b, theta, score}],\n"
-    "  timings: {edges_ms, curves_ms, arcs_ms, fit_ms, validate_ms, total_ms}} (per-stage medians).\n"
+    "  timings: {edges_ms, curves_ms, arcs_ms, fit_ms, validate_ms, total_ms} (per-stage medians),\n"
+    "  counts: {edge_pixels, curves, arcs, pairs, triplets, candidates, caps_hit}} (the last run;\n"
+    "  caps_hit names the caps of ellipsekit/options.h that bounded the work, [] when none).\n"
     "Conventions: pixel centres at integers, x right, y down; a >= b semi-axes in px; theta in rad,\n"
     "the major axis along (cos theta, sin theta) (OpenCV RotatedRect angle).\n"
     "A missing or unreadable image is reported on stderr, the others are processed, exit status 1.\n";
@@ -88,7 +91,24 @@ std::string ReportJson(const ImageReport& r) {
   s += "   \"timings\": {\"edges_ms\": " + JsonNumber(t.edges_ms, 4) + ", \"curves_ms\": " +
        JsonNumber(t.curves_ms, 4) + ", \"arcs_ms\": " + JsonNumber(t.arcs_ms, 4) + ", \"fit_ms\": " +
        JsonNumber(t.fit_ms, 4) + ", \"validate_ms\": " + JsonNumber(t.validate_ms, 4) +
-       ", \"total_ms\": " + JsonNumber(t.total_ms, 4) + "}}";
+       ", \"total_ms\": " + JsonNumber(t.total_ms, 4) + "},\n";
+  const DetectionResult& d = r.result;
+  s += "   \"counts\": {\"edge_pixels\": " + std::to_string(d.num_edge_pixels) + ", \"curves\": " +
+       std::to_string(d.num_curves) + ", \"arcs\": " + std::to_string(d.num_arcs) + ", \"pairs\": " +
+       std::to_string(d.num_pairs) + ", \"triplets\": " + std::to_string(d.num_triplets) +
+       ", \"candidates\": " + std::to_string(d.num_candidates) + ", \"caps_hit\": [";
+  const std::pair<unsigned, const char*> caps[] = {{kCapArcs, "max_arcs"},
+                                                   {kCapPairs, "max_pairs"},
+                                                   {kCapTriplets, "max_triplets"},
+                                                   {kCapCandidates, "max_candidates"},
+                                                   {kCapMeanShift, "max_mean_shift_iterations"}};
+  bool first = true;
+  for (const auto& [flag, name] : caps) {
+    if ((d.caps_hit & flag) == 0) continue;
+    s += (first ? "" : ", ") + JsonString(name);
+    first = false;
+  }
+  s += "]}}";
   return s;
 }
 
