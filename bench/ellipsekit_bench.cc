@@ -539,15 +539,23 @@ ek::Detector* DetectorFor(ek::Backend b) {
   return d.get();
 }
 
-void BM_Detect(benchmark::State& st, ek::Backend backend, const cv::Mat* image) {
+// The shared Detector of `backend` on the best Highway target, or nullptr after skipping the
+// benchmark when the backend is unavailable here.
+ek::Detector* ReadyDetector(benchmark::State& st, ek::Backend backend) {
   ek::Detector* det = DetectorFor(backend);
   if (!det->status().ok()) {
     st.SkipWithError((std::string(ek::BackendName(backend)) + " unavailable: " + det->status().message()).c_str());
-    return;
+    return nullptr;
   }
 #ifdef ELLIPSEKIT_HAVE_SIMD
   ek::simd::ForceTarget(0);
 #endif
+  return det;
+}
+
+void BM_Detect(benchmark::State& st, ek::Backend backend, const cv::Mat* image) {
+  ek::Detector* det = ReadyDetector(st, backend);
+  if (det == nullptr) return;
   ek::DetectionResult r;
   ek::Status s = det->detect(View(*image), &r);
   if (!s.ok()) { st.SkipWithError(("detect failed: " + s.message()).c_str()); return; }
@@ -606,14 +614,8 @@ const SceneSet& Scenes200() {
 }
 
 void BM_DetectScenes200(benchmark::State& st, ek::Backend backend) {
-  ek::Detector* det = DetectorFor(backend);
-  if (!det->status().ok()) {
-    st.SkipWithError((std::string(ek::BackendName(backend)) + " unavailable: " + det->status().message()).c_str());
-    return;
-  }
-#ifdef ELLIPSEKIT_HAVE_SIMD
-  ek::simd::ForceTarget(0);
-#endif
+  ek::Detector* det = ReadyDetector(st, backend);
+  if (det == nullptr) return;
   const SceneSet& set = Scenes200();
   ek::DetectionResult r;
   for (auto _ : st) {
