@@ -71,21 +71,32 @@ ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int
     const double len = hn == 2 ? std::hypot(double(PX(h[1]) - PX(h[0])), double(PY(h[1]) - PY(h[0]))) : 0.0;
     return {0.0, len};
   }
+  // Rotating calipers: as the box side turns counter-clockwise from hull edge to hull edge, the
+  // vertices farthest along it (ahead, behind) and across it only move forward, so each edge costs
+  // O(1) amortised. Integer vertices keep neighbouring projections at least 1 / |edge| apart unless
+  // they are exactly equal, so the walks stop at the true extremes (ties give equal values).
   double best_area = std::numeric_limits<double>::infinity();
+  int ahead = 0, behind = 0, across = 0;  // extreme vertices for the current edge
   for (int i = 0; i < hn; ++i) {
     const std::int64_t a = h[i], b = h[(i + 1) % hn];
     const double ex = double(PX(b) - PX(a)), ey = double(PY(b) - PY(a));
     const double len = std::hypot(ex, ey);
     const double ux = ex / len, uy = ey / len;
-    double lo = 0, hi = 0, height = 0;
-    for (int j = 0; j < hn; ++j) {
-      const double px = double(PX(h[j]) - PX(a)), py = double(PY(h[j]) - PY(a));
-      const double along = px * ux + py * uy;
-      lo = std::min(lo, along);
-      hi = std::max(hi, along);
-      height = std::max(height, std::abs(px * uy - py * ux));
+    auto along = [&](int j) { return double(PX(h[j]) - PX(a)) * ux + double(PY(h[j]) - PY(a)) * uy; };
+    auto height_of = [&](int j) { return std::abs(double(PX(h[j]) - PX(a)) * uy - double(PY(h[j]) - PY(a)) * ux); };
+    if (i == 0) {  // the first edge finds its extremes by a full scan
+      for (int j = 1; j < hn; ++j) {
+        if (along(j) > along(ahead)) ahead = j;
+        if (along(j) < along(behind)) behind = j;
+        if (height_of(j) > height_of(across)) across = j;
+      }
+    } else {
+      for (int k = 0; k < hn && along((ahead + 1) % hn) >= along(ahead); ++k) ahead = (ahead + 1) % hn;
+      for (int k = 0; k < hn && along((behind + 1) % hn) <= along(behind); ++k) behind = (behind + 1) % hn;
+      for (int k = 0; k < hn && height_of((across + 1) % hn) >= height_of(across); ++k) across = (across + 1) % hn;
     }
-    const double width = hi - lo;
+    const double width = std::max(0.0, along(ahead)) - std::min(0.0, along(behind));
+    const double height = height_of(across);
     if (width * height < best_area) {
       best_area = width * height;
       best.short_side = std::min(width, height);

@@ -1,6 +1,6 @@
 // OBB_min: the minimum-area oriented bounding box of a point set (sec. II-A, ref. [33]).
 // Convex hull (Andrew's monotone chain, exact on integer points), then every hull edge is tried
-// as a side of the box (the optimal box has a side on a hull edge).
+// as a side of the box (the optimal box has a side on a hull edge), by rotating calipers: O(n).
 #pragma once
 
 #include <cstdint>
