@@ -23,8 +23,10 @@ PointMoments MomentsOfPoints(const std::int32_t* x, const std::int32_t* y, int b
 }
 
 void AddShiftedMoments(const PointMoments& p, PointMoments* acc) {
-  // (x - acc.o) = (x - p.o) + d with d = p.o - acc.o:
-  //   sum (x - acc.ox)^a (y - acc.oy)^b = sum_{i<=a, j<=b} C(a,i) C(b,j) dx^(a-i) dy^(b-j) p.m[i][j].
+  // (x - acc.o) = (x - p.o) + d with d = p.o - acc.o. Shifting is separable: first x,
+  //   t[a][b] = sum_{i<=a} C(a,i) dx^(a-i) p.m[i][b],
+  // then y,
+  //   acc.m[a][b] += sum_{j<=b} C(b,j) dy^(b-j) t[a][j].
   static constexpr double kBinomial[kMomentOrder + 1][kMomentOrder + 1] = {
       {1, 0, 0, 0, 0}, {1, 1, 0, 0, 0}, {1, 2, 1, 0, 0}, {1, 3, 3, 1, 0}, {1, 4, 6, 4, 1}};
   const double dx = p.ox - acc->ox, dy = p.oy - acc->oy;
@@ -34,12 +36,16 @@ void AddShiftedMoments(const PointMoments& p, PointMoments* acc) {
     px[k] = px[k - 1] * dx;
     py[k] = py[k - 1] * dy;
   }
+  double t[kMomentOrder + 1][kMomentOrder + 1] = {};
+  for (int a = 0; a <= kMomentOrder; ++a) {
+    for (int b = 0; a + b <= kMomentOrder; ++b) {
+      for (int i = 0; i <= a; ++i) t[a][b] += kBinomial[a][i] * px[a - i] * p.m[i][b];
+    }
+  }
   for (int a = 0; a <= kMomentOrder; ++a) {
     for (int b = 0; a + b <= kMomentOrder; ++b) {
       double s = 0;
-      for (int i = 0; i <= a; ++i) {
-        for (int j = 0; j <= b; ++j) s += kBinomial[a][i] * kBinomial[b][j] * px[a - i] * py[b - j] * p.m[i][j];
-      }
+      for (int j = 0; j <= b; ++j) s += kBinomial[b][j] * py[b - j] * t[a][j];
       acc->m[a][b] += s;
     }
   }
