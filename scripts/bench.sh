@@ -118,6 +118,15 @@ for st in ["prasad", "scenes"]:
     lines.append(f"| {st} | {len(images)} | " + " | ".join(cols) +
                  f" | {fmt(statistics.median(dsimd)) if dsimd else 'n/a'} | {fmt(statistics.median(canny)) if canny else 'n/a'} |")
 lines.append("")
+# The issue's set: all 200 scenes of `ellipsekit scenes --count 200 --seed 7`, one iteration each.
+c200 = ms("opencv_canny_image/scenes200")
+lines += ["## End to end over the 200 generated scenes (sum of times per iteration)", "",
+          "| backend | detect / cv::Canny | detect ms per scene | cv::Canny ms per scene |", "|---|---|---|---|"]
+for be in ["scalar", "simd", "vulkan"]:
+    d = ms(f"detect/{be}/scenes200")
+    per = lambda x: None if x is None else x / 200
+    lines.append(f"| {be} | {fmt(ratio(d, c200))} | {fmt(per(d))} | {fmt(per(c200))} |")
+lines.append("")
 if skipped:
     lines += ["## Skipped", ""] + [f"- `{n}`: {m}" for n, m in sorted(skipped.items())] + [""]
 open(f"{out}/ratios.md", "w").write("\n".join(lines))
