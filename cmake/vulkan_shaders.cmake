@@ -36,6 +36,9 @@ function(ellipsekit_embed_vulkan_shaders target)
       string(APPEND var "${head}${tail}")
     endforeach()
     string(APPEND var "Spv")
+    # Files a shader #includes (GL_GOOGLE_include_directive) are the .glsl files beside it.
+    get_filename_component(src_dir ${abs} DIRECTORY)
+    file(GLOB includes ${src_dir}/*.glsl)
     set(spv ${out_dir}/${name}.spv)
     set(header ${out_dir}/${name}.spv.h)
     add_custom_command(
@@ -43,7 +46,7 @@ function(ellipsekit_embed_vulkan_shaders target)
       COMMAND ${ELLIPSEKIT_GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -o ${spv} ${abs}
       COMMAND ${ELLIPSEKIT_SPIRV_VAL} --target-env vulkan1.1 ${spv}
       COMMAND ${ELLIPSEKIT_GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn ${var} -o ${header} ${abs}
-      DEPENDS ${abs}
+      DEPENDS ${abs} ${includes}
       COMMENT "SPIR-V ${name}.comp -> ${name}.spv.h (${var}), validated"
       VERBATIM)
     list(APPEND headers ${header})

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 namespace ellipsekit {
@@ -181,6 +182,41 @@ Status VulkanContext::Init() {
   enabled.shaderInt64 = offered.shaderInt64;
   shader_int64_ = offered.shaderInt64 == VK_TRUE;
   dci.pEnabledFeatures = &enabled;
+  // vulkanMemoryModel when offered. The instance asks for Vulkan 1.1, where it is the extension
+  // VK_KHR_vulkan_memory_model (core only from 1.2), so the extension is always what is enabled.
+  VkPhysicalDeviceVulkanMemoryModelFeatures memory_model{};
+  memory_model.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES;
+  const char* memory_model_extension = VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME;
+  auto has_extension = [&](const char* name) {
+    std::uint32_t n = 0;
+    if (vk_.vkEnumerateDeviceExtensionProperties(physical_, nullptr, &n, nullptr) != VK_SUCCESS) return false;
+    std::vector<VkExtensionProperties> ext(n);
+    if (vk_.vkEnumerateDeviceExtensionProperties(physical_, nullptr, &n, ext.data()) != VK_SUCCESS) return false;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (std::string(ext[i].extensionName) == name) return true;
+    }
+    return false;
+  };
+  const char* no_memory_model = std::getenv("ELLIPSEKIT_VK_NO_MEMORY_MODEL");
+  if ((no_memory_model == nullptr || std::string(no_memory_model) != "1") &&
+      has_extension(memory_model_extension)) {
+    VkPhysicalDeviceFeatures2 features2{};
+    features2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    features2.pNext = &memory_model;
+    vk_.vkGetPhysicalDeviceFeatures2(physical_, &features2);
+    // Device scope too: with the memory model enabled, the other shaders' default (Device-scope)
+    // atomics are valid only when vulkanMemoryModelDeviceScope is enabled as well.
+    memory_model_ = memory_model.vulkanMemoryModel == VK_TRUE && memory_model.vulkanMemoryModelDeviceScope == VK_TRUE;
+  }
+  if (memory_model_) {
+    memory_model = {};
+    memory_model.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES;
+    memory_model.vulkanMemoryModel = VK_TRUE;
+    memory_model.vulkanMemoryModelDeviceScope = VK_TRUE;
+    dci.pNext = &memory_model;
+    dci.enabledExtensionCount = 1;
+    dci.ppEnabledExtensionNames = &memory_model_extension;
+  }
   r = vk_.vkCreateDevice(physical_, &dci, nullptr, &device_);
   if (r != VK_SUCCESS) return Unavailable("vkCreateDevice on '" + device_name_ + "' failed: " + VkResultName(r));
 #define ELLIPSEKIT_VK_LOAD_DEVICE(name)                                                 \

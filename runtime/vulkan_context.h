@@ -24,7 +24,8 @@ namespace ellipsekit {
 #define ELLIPSEKIT_VK_INSTANCE_FUNCTIONS(X)                                                         \
   X(vkDestroyInstance) X(vkEnumeratePhysicalDevices) X(vkGetPhysicalDeviceProperties)               \
   X(vkGetPhysicalDeviceQueueFamilyProperties) X(vkGetPhysicalDeviceMemoryProperties)                \
-  X(vkCreateDevice) X(vkGetDeviceProcAddr) X(vkGetPhysicalDeviceFeatures)
+  X(vkCreateDevice) X(vkGetDeviceProcAddr) X(vkGetPhysicalDeviceFeatures)                           \
+  X(vkGetPhysicalDeviceFeatures2) X(vkEnumerateDeviceExtensionProperties)
 #define ELLIPSEKIT_VK_DEVICE_FUNCTIONS(X)                                                           \
   X(vkDestroyDevice) X(vkGetDeviceQueue) X(vkCreateBuffer) X(vkDestroyBuffer)                       \
   X(vkGetBufferMemoryRequirements) X(vkAllocateMemory) X(vkFreeMemory) X(vkBindBufferMemory)        \
@@ -81,6 +82,11 @@ class VulkanContext {
   // True when the device was created with the shaderInt64 feature (the arc-stage shaders need
   // 64-bit integers; the edge stage does not). Enabled whenever the device offers it.
   bool shader_int64() const { return shader_int64_; }
+  // True when the device was created with the vulkanMemoryModel and vulkanMemoryModelDeviceScope
+  // features of VK_KHR_vulkan_memory_model (mandatory in Vulkan 1.3), so shaders may use
+  // relaxed atomic loads and stores.
+  // ELLIPSEKIT_VK_NO_MEMORY_MODEL=1 leaves it off, to test the fallback shaders.
+  bool memory_model() const { return memory_model_; }
 
   // Storage buffer usable as copy source and destination. host_visible: mapped, host-coherent
   // when the device offers it (otherwise Flush/Invalidate below do the work).
@@ -107,6 +113,7 @@ class VulkanContext {
   double timestamp_period_ns_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
   bool shader_int64_ = false;
+  bool memory_model_ = false;
 };
 
 // "VK_ERROR_OUT_OF_DEVICE_MEMORY" and so on, for messages.

@@ -11,6 +11,7 @@
 #include "shaders/edge_sign.spv.h"
 #include "shaders/gaussian.spv.h"
 #include "shaders/hysteresis.spv.h"
+#include "shaders/hysteresis_rmw.spv.h"
 #include "shaders/nms.spv.h"
 #include "shaders/sobel.spv.h"
 
@@ -51,7 +52,10 @@ Status VulkanEdgeStage::Init() {
       {kSobelSpv, sizeof(kSobelSpv), true, 0},
       {kCannyThresholdsSpv, sizeof(kCannyThresholdsSpv), true, 0},
       {kCannyThresholdsSpv, sizeof(kCannyThresholdsSpv), true, 1},
-      {kNmsSpv, sizeof(kNmsSpv), true, 0},                   {kHysteresisSpv, sizeof(kHysteresisSpv), true, 0},
+      {kNmsSpv, sizeof(kNmsSpv), true, 0},
+      // Relaxed atomics under the Vulkan memory model where the device has it, else atomicOr.
+      ctx_->memory_model() ? VulkanProgram::Shader{kHysteresisSpv, sizeof(kHysteresisSpv), true, 0}
+                           : VulkanProgram::Shader{kHysteresisRmwSpv, sizeof(kHysteresisRmwSpv), true, 0},
       {kEdgeSignSpv, sizeof(kEdgeSignSpv), true, 0}};
   return program_.Create(ctx_.get(), kNumBindings, kPushWords * sizeof(std::uint32_t), shaders, kNumPipelines);
 }

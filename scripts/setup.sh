@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libopencv-contrib-dev libeigen3-dev libhwy-dev
-  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools spirv-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
   libgtest-dev libbenchmark-dev python3
   clang libclang-rt-14-dev  # scripts/fuzz.sh (libFuzzer)
 )

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -180,6 +181,18 @@ TEST(ConformanceVulkanEdge, DatasetImages) {
     }
   }
   EXPECT_GT(count, 0) << "no readable image under " << root;
+}
+
+// Which hysteresis shader ran: relaxed atomics under the Vulkan memory model where the device has
+// it, atomicOr otherwise; ELLIPSEKIT_VK_NO_MEMORY_MODEL=1 forces the fallback (ctest runs this
+// file's conformance tests both ways: ConformanceVulkanEdgeFallback).
+TEST(ConformanceVulkanEdge, HysteresisVariant) {
+  REQUIRE_VULKAN(stage);
+  const char* off = std::getenv("ELLIPSEKIT_VK_NO_MEMORY_MODEL");
+  const bool forced_off = off != nullptr && std::string(off) == "1";
+  std::printf("[vulkan] %s: hysteresis with %s\n", stage->device_name().c_str(),
+              stage->context()->memory_model() ? "relaxed atomics (Vulkan memory model)" : "atomicOr");
+  if (forced_off) EXPECT_FALSE(stage->context()->memory_model());
 }
 
 TEST(ConformanceVulkanEdge, Timing) {

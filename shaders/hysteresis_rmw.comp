@@ -1,0 +1,15 @@
+// hysteresis_rmw: hysteresis.comp for devices without vulkanMemoryModel: the edge words shared
+// between strips are accessed by atomic read-modify-writes (atomicOr), which every Vulkan device
+// has. Slower on lavapipe (README); the same result.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8) in;
+
+layout(std430, set = 0, binding = 6) buffer Masks { uvec2 masks[]; };
+
+uint NeighbourEdges(uint index) { return atomicOr(masks[index].y, 0u); }
+void StoreEdges(uint index, uint word) { atomicOr(masks[index].y, word); }
+
+#include "hysteresis_sweep.glsl"
+
+void SetFlag(uint index) { atomicOr(flags[index], 1u); }
