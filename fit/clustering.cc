@@ -13,6 +13,9 @@ double OrientationDifference(double t1, double t2) {
   return std::min(d, std::numbers::pi - d);
 }
 
+// Both nearly circles: their orientations mean little and are not compared.
+bool BothNearlyRound(const Ellipse& v, const Ellipse& w) { return v.b > 0.9 * v.a && w.b > 0.9 * w.a; }
+
 }  // namespace
 
 double FeatureDistance(const Ellipse& v, const Ellipse& w) {
@@ -29,8 +32,7 @@ bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options) {
   if (std::hypot(v.cx - w.cx, v.cy - w.cy) > t * std::min(v.b, w.b)) return false;
   if (std::abs(v.a - w.a) > t * std::max(v.a, w.a)) return false;
   if (std::abs(v.b - w.b) > t * std::max(v.b, w.b)) return false;
-  const bool round = v.b > 0.9 * v.a && w.b > 0.9 * w.a;  // orientation means little
-  return round || OrientationDifference(v.theta, w.theta) <= t;
+  return BothNearlyRound(v, w) || OrientationDifference(v.theta, w.theta) <= t;
 }
 
 bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
@@ -40,8 +42,8 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
   const double scale = (outer.a + outer.b) / (inner.a + inner.b);
   if (scale < kRimMinScale || scale > kRimMaxScale) return false;
   if (std::abs(outer.b / outer.a - inner.b / inner.a) > kRimAxisRatioTolerance) return false;
-  const bool round = outer.b > 0.9 * outer.a && inner.b > 0.9 * inner.a;
-  return round || OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;
+  return BothNearlyRound(outer, inner) ||
+         OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;
 }
 
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options) {
