@@ -30,6 +30,10 @@ Arc ArcFromStats(const ArcStats& s, const Curves& curves) {
 
 bool PassesObbRule(const Curves& curves, int begin, int end, const Options& options,
                    std::vector<std::int64_t>* hull) {
+  if (options.obb_rule == ObbRule::kMinSide && ObbShortSideAtLeast(curves.x.data(), curves.y.data(), begin, end,
+                                                                   options.obb_threshold)) {
+    return true;  // proven without the box
+  }
   const ObbSides obb = MinAreaObb(curves.x.data(), curves.y.data(), begin, end, hull);
   if (options.obb_rule == ObbRule::kMinSide) return obb.short_side >= options.obb_threshold;
   // Side ratio: an almost straight curve has a long, thin box.

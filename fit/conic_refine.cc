@@ -5,7 +5,6 @@
 #include <numbers>
 
 #include <Eigen/Dense>
-#include <Eigen/Eigenvalues>
 
 #include "fit/parameters.h"
 
@@ -34,8 +33,12 @@ bool EllipseEigenvector(const Eigen::Matrix3d& m, Eigen::Vector3d* out) {
   } else {
     const double r = 2 * std::sqrt(-p / 3);
     const double arg = std::clamp(3 * q / (p * r), -1.0, 1.0);  // = cos(3 phi); rounding may leave [-1, 1]
-    const double phi = std::acos(arg) / 3;
-    for (int k = 0; k < 3; ++k) roots[k] = shift + r * std::cos(phi - 2 * std::numbers::pi * k / 3);
+    // phi in [0, pi/3], so sin(phi) >= 0; cos(phi -+ 2 pi / 3) by the angle-sum formula.
+    const double cp = std::cos(std::acos(arg) / 3), sp = std::sqrt(std::max(0.0, 1 - cp * cp));
+    constexpr double kSin120 = 0.86602540378443864676;
+    roots[0] = shift + r * cp;
+    roots[1] = shift + r * (-0.5 * cp + kSin120 * sp);
+    roots[2] = shift + r * (-0.5 * cp - kSin120 * sp);
   }
   double best = 0;
   bool found = false;
@@ -68,42 +71,37 @@ bool ConicToEllipse(const double k[6], Ellipse* out) {
   const double x0 = (B * E - 2 * C * D) / det;
   const double y0 = (B * D - 2 * A * E) / det;
   const double f0 = F + 0.5 * (D * x0 + E * y0);
-  Eigen::Matrix2d q;
-  q << A, B / 2, B / 2, C;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(q);
-  const double l0 = es.eigenvalues()(0), l1 = es.eigenvalues()(1);
-  const double s0 = -f0 / l0, s1 = -f0 / l1;
-  if (!(s0 > 0) || !(s1 > 0)) return false;
-  // The larger semi-axis goes with the eigenvalue of smaller magnitude.
-  const bool first_major = s0 >= s1;
-  const Eigen::Vector2d v = es.eigenvectors().col(first_major ? 0 : 1);
+  // Eigenvalues of [[A, B/2], [B/2, C]]: m +- d, of equal sign (det > 0); the one nearer zero as
+  // (det / 4) / (the other), without cancellation. The eigenvector of m + d is at phi.
+  const double m = 0.5 * (A + C), d = std::sqrt(0.25 * (A - C) * (A - C) + 0.25 * B * B);
+  const double phi = 0.5 * std::atan2(B, A - C);
+  const double far = m > 0 ? m + d : m - d;  // larger magnitude: the minor axis
+  const double near = 0.25 * det / far;      // smaller magnitude: the major axis
+  const double s_major = -f0 / near, s_minor = -f0 / far;
+  if (!(s_major > 0) || !(s_minor > 0)) return false;
   out->cx = x0;
   out->cy = y0;
-  out->a = std::sqrt(first_major ? s0 : s1);
-  out->b = std::sqrt(first_major ? s1 : s0);
-  out->theta = std::atan2(v.y(), v.x());
+  out->a = std::sqrt(s_major);
+  out->b = std::sqrt(s_minor);
+  out->theta = m > 0 ? phi + std::numbers::pi / 2 : phi;  // the eigenvector of `near`
   NormalizeEllipse(out);
   return std::isfinite(out->cx) && std::isfinite(out->cy) && std::isfinite(out->a) && std::isfinite(out->b);
 }
 
 bool RefineEllipse(const Arc* const* arcs, int count, Ellipse* out) {
-  // Centroid, then the central moments of the group (each arc's moments shifted to it).
-  double n = 0, sx = 0, sy = 0;
+  // The group's moments about the middle arc's origin (a point of the group's bounding box: the
+  // other arcs' moments are shifted to it). Normalised coordinates (x - origin) / scale with scale
+  // the RMS distance to the origin keep the scatter matrices well conditioned (Hartley).
+  const PointMoments& middle = arcs[count / 2]->moments;
+  PointMoments c = middle;
   for (int i = 0; i < count; ++i) {
-    const PointMoments& p = arcs[i]->moments;
-    n += p.m[0][0];
-    sx += p.m[1][0] + p.ox * p.m[0][0];
-    sy += p.m[0][1] + p.oy * p.m[0][0];
+    if (i != count / 2) AddShiftedMoments(arcs[i]->moments, &c);
   }
+  const double n = c.m[0][0];
   if (n < 6) return false;
-  PointMoments c;
-  c.ox = sx / n;
-  c.oy = sy / n;
-  for (int i = 0; i < count; ++i) AddShiftedMoments(arcs[i]->moments, &c);
-  // Normalised coordinates (x - mean) / scale with scale the RMS distance to the centroid.
   const double scale = std::sqrt((c.m[2][0] + c.m[0][2]) / n);
   if (!(scale > 0)) return false;
-  double nm[kMomentOrder + 1][kMomentOrder + 1];  // normalised central moments
+  double nm[kMomentOrder + 1][kMomentOrder + 1];  // normalised moments
   double inv_scale_pow[2 * kMomentOrder + 1] = {1};  // scale^-k
   for (int k = 1; k <= 2 * kMomentOrder; ++k) inv_scale_pow[k] = inv_scale_pow[k - 1] / scale;
   for (int a = 0; a <= kMomentOrder; ++a) {
@@ -121,15 +119,16 @@ bool RefineEllipse(const Arc* const* arcs, int count, Ellipse* out) {
   s3 << nm[2][0], nm[1][1], nm[1][0],
         nm[1][1], nm[0][2], nm[0][1],
         nm[1][0], nm[0][1], nm[0][0];
-  const Eigen::FullPivLU<Eigen::Matrix3d> lu(s3);
-  if (!lu.isInvertible()) return false;
-  const Eigen::Matrix3d t = -lu.solve(s2.transpose());
+  // s3 is a Gram matrix: det(s3) / (product of its diagonal) is 0 for collinear points, <= 1.
+  const double det3 = s3.determinant();
+  if (!(det3 > 1e-12 * s3(0, 0) * s3(1, 1) * s3(2, 2))) return false;
+  const Eigen::Matrix3d t = -(s3.inverse() * s2.transpose());
   const Eigen::Matrix3d m = s1 + s2 * t;
   Eigen::Matrix3d reduced;  // C1^-1 * m with the constraint 4ac - b^2 = 1
   reduced.row(0) = m.row(2) / 2;
   reduced.row(1) = -m.row(1);
   reduced.row(2) = m.row(0) / 2;
-  Eigen::Vector3d a1;
+  Eigen::Vector3d a1 = Eigen::Vector3d::Zero();
   if (!EllipseEigenvector(reduced, &a1)) return false;
   const Eigen::Vector3d a2 = t * a1;
   const double conic[6] = {a1(0), a1(1), a1(2), a2(0), a2(1), a2(2)};

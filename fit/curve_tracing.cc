@@ -16,40 +16,49 @@ constexpr int TurnOctants(int from, int to) {
   return d > 4 ? 8 - d : d;
 }
 
-struct TurnTable {
-  int turn[8][8];
-  constexpr TurnTable() : turn{} {
-    for (int a = 0; a < 8; ++a)
-      for (int b = 0; b < 8; ++b) turn[a][b] = TurnOctants(a, b);
+// For each previous move, the eight moves ordered by how far they turn from it (ties: the order
+// above), so the first same-class neighbour in this order is the least-turning one.
+struct MoveOrder {
+  int order[8][8];
+  constexpr MoveOrder() : order{} {
+    for (int last = 0; last < 8; ++last) {
+      int n = 0;
+      for (int turn = 0; turn <= 4; ++turn)
+        for (int k = 0; k < 8; ++k)
+          if (TurnOctants(last, k) == turn) order[last][n++] = k;
+    }
   }
 };
-constexpr TurnTable kTurn;
+constexpr MoveOrder kMoveOrder;
 
-// Follows the chain from `start` (already taken) and appends the pixels it reaches. At a
+// Points are packed as (y << 16) | x: frames are at most 16384 px a side (ellipsekit/options.h).
+std::int32_t PackXY(int x, int y) { return (y << 16) | x; }
+
+// Follows the chain from `start` (already taken) and appends the pixels it reaches, packed. At a
 // junction it takes the neighbour that turns least from the last step (ties: the order above),
 // so a rim keeps going where texture edges touch it instead of wandering off into them.
 // `work` has a one-pixel border of zeros (row pitch `pitch`), so neighbours need no bounds tests;
 // indices are into `work`.
-void Follow(std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t start, std::uint8_t cls,
+void Follow(std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t start, int x, int y, std::uint8_t cls,
             std::vector<std::int32_t>* chain) {
   std::ptrdiff_t offset[8];
   for (int k = 0; k < 8; ++k) offset[k] = kStepY[k] * pitch + kStepX[k];
   std::int32_t cur = start;
-  int last = -1;  // index into kStep of the previous move
-  for (;;) {
-    int best = -1, best_turn = 5;
-    for (int k = 0; k < 8; ++k) {
-      if (work[cur + offset[k]] != cls) continue;
-      if (last < 0) { best = k; break; }
-      const int turn = kTurn.turn[last][k];
-      if (turn < best_turn) { best_turn = turn; best = k; }
+  int best = -1;
+  for (int k = 0; k < 8; ++k) {  // the first move: the first neighbour in the fixed order
+    if (work[cur + offset[k]] == cls) { best = k; break; }
+  }
+  while (best >= 0) {
+    cur = static_cast<std::int32_t>(cur + offset[best]);
+    x += kStepX[best];
+    y += kStepY[best];
+    work[cur] = 0;
+    chain->push_back(PackXY(x, y));
+    const int last = best;
+    best = -1;
+    for (const int k : kMoveOrder.order[last]) {
+      if (work[cur + offset[k]] == cls) { best = k; break; }
     }
-    if (best < 0) return;
-    const std::int32_t next = static_cast<std::int32_t>(cur + offset[best]);
-    work[next] = 0;
-    chain->push_back(next);
-    cur = next;
-    last = best;
   }
 }
 
@@ -61,10 +70,15 @@ void TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std:
   out->clear();
   const std::ptrdiff_t pitch = width + 2;
   std::vector<std::uint8_t>& work = scratch->work;
-  work.assign(static_cast<std::size_t>(pitch) * (height + 2), 0);
+  work.resize(static_cast<std::size_t>(pitch) * (height + 2));
+  std::fill(work.begin(), work.begin() + pitch, 0);  // the zero border, then each row between zeros
   for (int y = 0; y < height; ++y) {
-    std::copy(edge_map + y * stride, edge_map + y * stride + width, work.begin() + (y + 1) * pitch + 1);
+    std::uint8_t* row = work.data() + (y + 1) * pitch;
+    row[0] = 0;
+    std::copy(edge_map + y * stride, edge_map + y * stride + width, row + 1);
+    row[width + 1] = 0;
   }
+  std::fill(work.end() - pitch, work.end(), 0);
   for (int y = 0; y < height; ++y) {
     const std::int32_t row = static_cast<std::int32_t>((y + 1) * pitch + 1);
     for (int x = 0; x < width; ++x) {
@@ -82,20 +96,20 @@ void TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std:
       work[p] = 0;
       scratch->forward.clear();
       scratch->backward.clear();
-      Follow(work.data(), pitch, p, cls, &scratch->forward);
-      Follow(work.data(), pitch, p, cls, &scratch->backward);
+      Follow(work.data(), pitch, p, x, y, cls, &scratch->forward);
+      Follow(work.data(), pitch, p, x, y, cls, &scratch->backward);
       const std::size_t n = scratch->forward.size() + scratch->backward.size() + 1;
       if (n < static_cast<std::size_t>(min_points)) continue;
-      auto append = [&](std::int32_t idx) {
-        const int py = static_cast<int>(idx / pitch) - 1, px = static_cast<int>(idx % pitch) - 1;
+      auto append = [&](std::int32_t xy) {
+        const int py = xy >> 16, px = xy & 0xffff;
         out->x.push_back(px);
         out->y.push_back(py);
         out->gx.push_back(dx[py * grad_stride + px]);
         out->gy.push_back(dy[py * grad_stride + px]);
       };
       for (auto it = scratch->backward.rbegin(); it != scratch->backward.rend(); ++it) append(*it);
-      append(p);
-      for (std::int32_t idx : scratch->forward) append(idx);
+      append(PackXY(x, y));
+      for (const std::int32_t xy : scratch->forward) append(xy);
       out->sign_class.push_back(cls);
       out->offset.push_back(static_cast<std::int32_t>(out->x.size()));
     }

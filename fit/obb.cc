@@ -24,6 +24,22 @@ std::int64_t ObbScratchSize(std::int64_t points, std::int64_t columns) {
   return 2 * points + 4 * columns;  // the hull stack (<= 2 per point), then the columns
 }
 
+bool ObbShortSideAtLeast(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t) {
+  const int n = end - begin;
+  if (n < 3) return false;
+  // Smallest altitude of triangle (i, j, k) >= t  <=>  (2 area)^2 >= t^2 longest side^2; integer
+  // coordinates keep both sides exact in doubles.
+  auto proven_by = [&](int i, int j, int k) {
+    const std::int64_t ax = x[j] - x[i], ay = y[j] - y[i], bx = x[k] - x[i], by = y[k] - y[i];
+    const std::int64_t cx = x[k] - x[j], cy = y[k] - y[j];
+    const double twice_area = double(ax * by - ay * bx);
+    const double longest2 = double(std::max({ax * ax + ay * ay, bx * bx + by * by, cx * cx + cy * cy}));
+    return twice_area * twice_area >= t * t * longest2;
+  };
+  // An open arc: its ends and middle; a closed curve (ends adjacent): thirds.
+  return proven_by(begin, begin + n / 2, end - 1) || proven_by(begin, begin + n / 3, begin + 2 * n / 3);
+}
+
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                     std::vector<std::int64_t>* hull) {
   const int n = end - begin;
@@ -80,7 +96,7 @@ ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int
   for (int i = 0; i < hn; ++i) {
     const std::int64_t a = h[i], b = h[(i + 1) % hn];
     const double ex = double(PX(b) - PX(a)), ey = double(PY(b) - PY(a));
-    const double len = std::hypot(ex, ey);
+    const double len = std::sqrt(ex * ex + ey * ey);  // exact squares: rounds as hypot does
     const double ux = ex / len, uy = ey / len;
     auto along = [&](int j) { return double(PX(h[j]) - PX(a)) * ux + double(PY(h[j]) - PY(a)) * uy; };
     auto height_of = [&](int j) { return std::abs(double(PX(h[j]) - PX(a)) * uy - double(PY(h[j]) - PY(a)) * ux); };

@@ -17,6 +17,12 @@ struct ObbSides {
 // ObbScratchSize(end - begin, columns the points span) <= ObbScratchSize(n, n) entries.
 std::int64_t ObbScratchSize(std::int64_t points, std::int64_t columns);
 
+// A sufficient test for MinAreaObb(...).short_side >= t, in O(1): the box's short side is at least
+// the point set's width across it, which is at least the smallest altitude of any triangle of
+// its points (2 area / longest side). Tries two triangles of the chain (ends and middle; thirds);
+// false means "not proven", not "thinner than t".
+bool ObbShortSideAtLeast(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t);
+
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                     std::vector<std::int64_t>* hull);
 
