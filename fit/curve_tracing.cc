@@ -64,10 +64,11 @@ void Follow(std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t start, int x,
 
 }  // namespace
 
-void TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
+int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
                  int min_points, Curves* out, TraceScratch* scratch) {
   out->clear();
+  int edge_pixels = 0;
   const std::ptrdiff_t pitch = width + 2;
   std::vector<std::uint8_t>& work = scratch->work;
   work.resize(static_cast<std::size_t>(pitch) * (height + 2));
@@ -99,6 +100,7 @@ void TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std:
       Follow(work.data(), pitch, p, x, y, cls, &scratch->forward);
       Follow(work.data(), pitch, p, x, y, cls, &scratch->backward);
       const std::size_t n = scratch->forward.size() + scratch->backward.size() + 1;
+      edge_pixels += static_cast<int>(n);
       if (n < static_cast<std::size_t>(min_points)) continue;
       auto append = [&](std::int32_t xy) {
         const int py = xy >> 16, px = xy & 0xffff;
@@ -114,6 +116,7 @@ void TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std:
       out->offset.push_back(static_cast<std::int32_t>(out->x.size()));
     }
   }
+  return edge_pixels;
 }
 
 }  // namespace ellipsekit

@@ -191,7 +191,8 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const auto t1 = Clock::now();
 
   // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
-  TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points, &curves, &trace);
+  const int edge_pixels =
+      TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points, &curves, &trace);
   FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
   const auto t2 = Clock::now();
 
@@ -233,8 +234,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
 
   r->backend = ran;
   r->caps_hit = gs.caps_hit;
-  r->num_edge_pixels = 0;
-  for (std::size_t i = 0; i < edge_map.size(); ++i) r->num_edge_pixels += edge_map[i] != 0;
+  r->num_edge_pixels = edge_pixels;
   r->num_curves = curves.size();
   r->num_arcs = static_cast<int>(arcs.size());
   r->num_pairs = gs.pairs;
