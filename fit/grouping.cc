@@ -135,7 +135,7 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
           stats->caps_hit |= kCapCandidates;
           return;
         }
-        candidates->push_back({e, {ab.prev, b, bc.next}});
+        candidates->push_back({e, {ab.prev, b, bc.next}, false, {}});
       }
     }
   }

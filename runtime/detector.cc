@@ -12,6 +12,7 @@
 #include "fit/obb.h"
 #include "fit/clustering.h"
 #include "fit/curve_tracing.h"
+#include "fit/rim_search.h"
 #include "fit/grouping.h"
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
@@ -67,6 +68,8 @@ Status ValidateOptions(const Options& o) {
   if (!Finite(o.cluster_relative) || o.cluster_relative < 0 || o.cluster_relative > 1)
     return Invalid("cluster_relative must be in [0, 1]");
   if (!Finite(o.cluster_outer_margin)) return Invalid("cluster_outer_margin must be a finite number");
+  if (!Finite(o.rim_min_coverage) || o.rim_min_coverage < 0)
+    return Invalid("rim_min_coverage must be >= 0 (> 1 turns the outer-rim search off)");
   if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
     return Invalid("caps (max_arcs, max_pairs, max_triplets, max_candidates, max_mean_shift_iterations) must be >= 1");
   if (o.max_image_pixels < 1) return Invalid("max_image_pixels must be >= 1");
@@ -155,7 +158,32 @@ struct Detector::Impl {
   }
 
   Status Detect(const ImageView& image, DetectionResult* result);
+  void CompleteOuterRims(int kept, GroupStats* stats);
 };
+
+// Outer-rim completion (fit/rim_search.h) of candidates[0, kept), best first, within a budget of
+// two frames' worth of scanned pixels (kCapRimSearch when it runs out).
+void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
+  if (!(options.rim_min_coverage <= 1)) return;
+  const RimSearchInput in{edge_map.data(), width, dx.data(), dy.data(), width, width, height};
+  long budget = 2L * width * height;
+  for (int i = 0; i < kept; ++i) {
+    Candidate& c = candidates[i];
+    if (c.has_rim) continue;  // its cluster already holds the outer rim
+    if (budget <= 0) {
+      stats->caps_hit |= kCapRimSearch;
+      return;
+    }
+    Ellipse rim;
+    long scanned = 0;
+    const bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned);
+    budget -= scanned;
+    if (!found) continue;
+    bool detected = false;  // as an ellipse of its own: then both stay
+    for (int j = 0; j < kept && !detected; ++j) detected = j != i && SameEllipse(rim, candidates[j].ellipse, options);
+    if (!detected) c.ellipse = rim;
+  }
+}
 
 Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const auto t0 = Clock::now();
@@ -227,6 +255,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   // Clustering (sec. II-D-3).
   const int num_candidates = static_cast<int>(candidates.size());
   const int kept = ClusterCandidates(&candidates, options);
+  CompleteOuterRims(kept, &gs);
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);

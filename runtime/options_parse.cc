@@ -58,6 +58,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"refined_circumference_ratio", &Options::refined_circumference_ratio}, {"cluster_distance", &Options::cluster_distance},
       {"cluster_relative", &Options::cluster_relative},
       {"cluster_outer_margin", &Options::cluster_outer_margin},
+      {"rim_min_coverage", &Options::rim_min_coverage},
   };
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},

@@ -61,8 +61,8 @@ struct Rig {
   Eigen::Vector3d ToWorld(const Eigen::Vector3d& c) const { return R_wc * c + t_wc; }
 };
 
-// The detector's ellipses, one per group of (nearly) concentric detections — the largest, i.e. the
-// outer rim of a top (a can's lid also shows its inner rim and neck as smaller concentric rings).
+// The detector's ellipses as they are: the library keeps one per top, its outer rim (clustering's
+// rim rule and the outer-rim search), which is what the adapter is proven on.
 std::vector<Ellipse> Detect(ellipsekit::Detector& detector, const cv::Mat& gray) {
   ellipsekit::ImageView view;
   view.data = gray.ptr<std::uint8_t>(0);
@@ -71,21 +71,12 @@ std::vector<Ellipse> Detect(ellipsekit::Detector& detector, const cv::Mat& gray)
   view.stride = static_cast<std::ptrdiff_t>(gray.step[0]);
   ellipsekit::DetectionResult result;
   EXPECT_TRUE(detector.detect(view, &result).ok());
-  std::vector<Ellipse> sorted = result.ellipses;
-  // Per-frame diagnostics (crossing test): the raw detector output, printed before the frame header.
+  // Per-frame diagnostics: the detector output, printed before the frame header.
   if (std::getenv("ELLIPSEKIT_TRACK_TRACE") != nullptr) {
-    for (const Ellipse& e : sorted)
+    for (const Ellipse& e : result.ellipses)
       std::printf("[trace]   raw (%.1f,%.1f a%.1f b%.1f th%.2f s%.2f)\n", e.cx, e.cy, e.a, e.b, e.theta, e.score);
   }
-  std::stable_sort(sorted.begin(), sorted.end(), [](const Ellipse& a, const Ellipse& b) { return a.a > b.a; });
-  std::vector<Ellipse> out;
-  for (const Ellipse& e : sorted) {
-    if (!(e.a > 0 && e.b > 0)) continue;
-    bool inside = false;
-    for (const Ellipse& k : out) inside |= std::hypot(e.cx - k.cx, e.cy - k.cy) < 0.5 * k.b && e.a < k.a;
-    if (!inside) out.push_back(e);
-  }
-  return out;
+  return result.ellipses;
 }
 
 // The detection of a true top: centre within a third of the true minor semi-axis, axes within 25 %.
@@ -213,22 +204,21 @@ TEST(TrackRendered, StaticStackTopCentreAveraged) {
 
 // ---------------------------------------------------------------- circle pose
 // Done-when: circle pose from a single ellipse with known radius: centre error <= 1 % of the
-// distance, normal error <= 2 deg. What this test asserts is narrower: the accuracy of the circle
-// pose on real detector output WHEN THE RADIUS OF THE CIRCLE THE DETECTOR FOUND IS KNOWN — the test
-// looks that radius up from the can model (outer edge, inner edge of the rim ring, or the groove),
-// which a robot cannot do. A robot assumes the outer radius; that figure is printed too, and it
-// does NOT meet the 1 % bar (a third of the detections are an inner circle of the lid), so the
-// done-when criterion is not claimed. Asserted on the MEDIAN over all detected tops (the issue
-// gives no percentile; the 95th percentile is printed and reported, not asserted).
+// distance, normal error <= 2 deg. The radius is the lid's outer radius for every detection, as a
+// robot knows it; a detection that is an inner circle of the lid (the inner edge of the rim ring
+// or the groove, where the outer rim was not found) then costs accuracy, and counts. Asserted on
+// the MEDIAN over all detected tops (the issue gives no percentile; the 95th is printed). Printed
+// too, as a diagnostic: the error with the radius of the circle the detector really found, looked
+// up from the can model (which a robot cannot do).
 // Scenes: the static stacking scenes of the generator with the camera 0.5-1.0 m from the tops,
 // tilted 40-65 deg, can radius 33-42 mm (top semi-major axes are printed); 2 cans per scene, 2
-// frames per scene (independent noise). No depth: CirclePoseByNormal with the true radius picks
-// the solution nearest the table normal (cans stand upright, so the normal error measures the
-// chosen solution, not the prior).
+// frames per scene (independent noise). No depth: CirclePoseByNormal picks the solution nearest
+// the table normal (cans stand upright, so the normal error measures the chosen solution, not
+// the prior).
 TEST(TrackRendered, CirclePoseFromOneDetectedEllipse) {
   ellipsekit::Detector detector;
   ASSERT_TRUE(detector.status().ok()) << detector.status().message();
-  std::vector<double> centre_pct, normal_deg, dist_m, axis_px, signed_pct, outer_pct;
+  std::vector<double> centre_pct, normal_deg, dist_m, axis_px, signed_pct, found_circle_pct;
   int tops = 0, inner_rim = 0;
   for (std::uint64_t seed = 101; seed < 113; ++seed) {
     sc::CanSceneOptions co;
@@ -249,9 +239,15 @@ TEST(TrackRendered, CirclePoseFromOneDetectedEllipse) {
         if (m < 0) continue;
         const Eigen::Vector3d c = rig->ToCamera(f.top_centre[static_cast<std::size_t>(k)]);
         const Ellipse& det = dets[static_cast<std::size_t>(m)];
-        // Which of the lid's circles the detector found: the outer edge, the inner edge of the rim
-        // ring or the groove inside it (their radii are known from the can model); the nearest
-        // projected circle in semi-axes.
+        auto est = er::CirclePoseByNormal(det, info.radius_m[k], rig->camera, rig->up_cam);
+        if (!est.ok()) continue;
+        centre_pct.push_back(100 * (est.value.centre - c).norm() / c.norm());
+        signed_pct.push_back(100 * (est.value.centre.norm() - c.norm()) / c.norm());
+        normal_deg.push_back(AngleDeg(est.value.normal, rig->up_cam));
+        dist_m.push_back(c.norm());
+        axis_px.push_back(truth.a);
+        // Diagnostic: which of the lid's circles the detector found (outer edge, inner edge of the
+        // rim ring, groove; the nearest projected circle in semi-axes), and the error with its radius.
         double radius = info.radius_m[k], best_axes = 1e9;
         const double rim = info.rim_width_m[k];
         for (double rk : {info.radius_m[k], info.radius_m[k] - rim, info.radius_m[k] - rim - 0.002}) {
@@ -265,15 +261,8 @@ TEST(TrackRendered, CirclePoseFromOneDetectedEllipse) {
           }
         }
         if (radius != info.radius_m[k]) ++inner_rim;
-        auto est = er::CirclePoseByNormal(det, radius, rig->camera, rig->up_cam);
-        if (!est.ok()) continue;
-        auto outer = er::CirclePoseByNormal(det, info.radius_m[k], rig->camera, rig->up_cam);
-        if (outer.ok()) outer_pct.push_back(100 * (outer.value.centre - c).norm() / c.norm());
-        centre_pct.push_back(100 * (est.value.centre - c).norm() / c.norm());
-        signed_pct.push_back(100 * (est.value.centre.norm() - c.norm()) / c.norm());
-        normal_deg.push_back(AngleDeg(est.value.normal, rig->up_cam));
-        dist_m.push_back(c.norm());
-        axis_px.push_back(truth.a);
+        auto found = er::CirclePoseByNormal(det, radius, rig->camera, rig->up_cam);
+        if (found.ok()) found_circle_pct.push_back(100 * (found.value.centre - c).norm() / c.norm());
       }
       return ellipsekit::Status::Ok();
     });
@@ -281,15 +270,15 @@ TEST(TrackRendered, CirclePoseFromOneDetectedEllipse) {
   }
   const double c50 = Percentile(centre_pct, 50), c95 = Percentile(centre_pct, 95);
   const double n50 = Percentile(normal_deg, 50), n95 = Percentile(normal_deg, 95);
-  std::printf("[rendered] circle pose: %zu/%d tops detected; distance %.2f-%.2f m (median %.2f), true semi-major "
-              "axis %.1f-%.1f px (median %.1f); centre error %% of distance median %.2f p95 %.2f max %.2f; signed "
-              "distance error median %.2f %%; normal error deg median %.2f p95 %.2f max %.2f\n",
+  std::printf("[rendered] circle pose (outer radius): %zu/%d tops detected; distance %.2f-%.2f m (median %.2f), true "
+              "semi-major axis %.1f-%.1f px (median %.1f); centre error %% of distance median %.2f p95 %.2f max %.2f; "
+              "signed distance error median %.2f %%; normal error deg median %.2f p95 %.2f max %.2f\n",
               centre_pct.size(), tops, Percentile(dist_m, 0), Percentile(dist_m, 100), Percentile(dist_m, 50),
               Percentile(axis_px, 0), Percentile(axis_px, 100), Percentile(axis_px, 50), c50, c95,
               Percentile(centre_pct, 100), Percentile(signed_pct, 50), n50, n95, Percentile(normal_deg, 100));
-  std::printf("[rendered] circle pose: %d of %zu detections are an inner circle of the lid (rim ring or groove); "
-              "assuming the outer radius for every detection instead: centre error %% median %.2f p95 %.2f\n",
-              inner_rim, centre_pct.size(), Percentile(outer_pct, 50), Percentile(outer_pct, 95));
+  std::printf("[rendered] circle pose: %d of %zu detections are an inner circle of the lid (rim ring or groove); with "
+              "the radius of the circle found instead: centre error %% median %.2f p95 %.2f\n",
+              inner_rim, centre_pct.size(), Percentile(found_circle_pct, 50), Percentile(found_circle_pct, 95));
   RecordProperty("circle_centre_pct_median", std::to_string(c50));
   RecordProperty("circle_centre_pct_p95", std::to_string(c95));
   RecordProperty("circle_normal_deg_median", std::to_string(n50));

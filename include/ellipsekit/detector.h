@@ -36,6 +36,7 @@ enum CapFlags : unsigned {
   kCapTriplets = 1u << 2,
   kCapCandidates = 1u << 3,
   kCapMeanShift = 1u << 4,
+  kCapRimSearch = 1u << 5,  // the outer-rim search scanned 2 frames' worth of pixels and stopped
 };
 
 struct DetectionResult {

@@ -343,20 +343,6 @@ Sequence LoadSequence(const fs::path& dir, bool conveyor) {
   return seq;
 }
 
-// Keeps one ellipse per group of (nearly) concentric detections — the largest, i.e. the outer rim.
-std::vector<Ellipse> MergeConcentric(const std::vector<Ellipse>& dets) {
-  std::vector<Ellipse> sorted = dets;
-  std::stable_sort(sorted.begin(), sorted.end(), [](const Ellipse& a, const Ellipse& b) { return a.a > b.a; });
-  std::vector<Ellipse> out;
-  for (const Ellipse& e : sorted) {
-    if (!(e.a > 0 && e.b > 0)) continue;
-    bool inside = false;
-    for (const Ellipse& k : out) inside |= std::hypot(e.cx - k.cx, e.cy - k.cy) < 0.5 * k.b && e.a < k.a;
-    if (!inside) out.push_back(e);
-  }
-  return out;
-}
-
 std::string Vec(const Eigen::Vector3d& v, int digits = 5) {
   std::string s(1, '[');  // (appends: GCC 12 warns falsely on "literal" + string)
   s += JsonNumber(v.x(), digits);
@@ -496,7 +482,7 @@ int RunTrack(const std::vector<std::string>& argv) {
     view.height = gray.rows;
     view.stride = static_cast<std::ptrdiff_t>(gray.step[0]);
     if (Status st = detector.detect(view, &result); !st.ok()) return fail(img_path.string() + ": " + st.message());
-    const std::vector<Ellipse> dets = MergeConcentric(result.ellipses);
+    const std::vector<Ellipse>& dets = result.ellipses;  // one per top: the detector keeps its outer rim
     if (Status st = tracker.Update(dets, now); !st.ok()) return fail(img_path.string() + ": " + st.message());
 
     // 3-D top centres of this frame's detections.

@@ -1,0 +1,95 @@
+#include "fit/rim_search.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numbers>
+
+namespace ellipsekit {
+
+namespace {
+
+constexpr int kMaxBins = 128;
+constexpr int kSectors = 64;  // one bit each in a std::uint64_t
+constexpr double kMinCos2 = 0.8;  // gradient within ~26.6 degrees of the normal: cos^2 >= 0.8
+
+}  // namespace
+
+bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
+                  long* scanned_pixels) {
+  *scanned_pixels = 0;
+  if (!(inner.b >= 2) || !(inner.a >= inner.b)) return false;
+  const double k_min = std::max(kRimSearchMinScale, 1 + 1.5 / inner.b), k_max = kRimSearchMaxScale;
+  if (!(k_min < k_max)) return false;
+  const double c = std::cos(inner.theta), s = std::sin(inner.theta);
+  // The search box: the bounding box of k_max * inner, clipped to the frame.
+  const double big_a = k_max * inner.a, big_b = k_max * inner.b;
+  const double hx = std::sqrt(big_a * big_a * c * c + big_b * big_b * s * s);
+  const double hy = std::sqrt(big_a * big_a * s * s + big_b * big_b * c * c);
+  const int x0 = static_cast<int>(std::max(0.0, std::floor(inner.cx - hx)));
+  const int x1 = static_cast<int>(std::min(in.width - 1.0, std::ceil(inner.cx + hx)));
+  const int y0 = static_cast<int>(std::max(0.0, std::floor(inner.cy - hy)));
+  const int y1 = static_cast<int>(std::min(in.height - 1.0, std::ceil(inner.cy + hy)));
+  if (x0 > x1 || y0 > y1) return false;
+  *scanned_pixels = static_cast<long>(x1 - x0 + 1) * (y1 - y0 + 1);
+
+  // Radius bins of ~0.5 px on the minor axis; a band of +-1 px is `half` bins either side.
+  const double bin = std::max(0.5 / inner.b, (k_max - k_min) / kMaxBins);
+  const int bins = std::min(kMaxBins, static_cast<int>(std::ceil((k_max - k_min) / bin)));
+  const int half = std::max(1, static_cast<int>(std::lround(1.0 / (inner.b * bin))));
+  std::uint64_t sectors[kMaxBins] = {};
+  double radius_sum[kMaxBins] = {};
+  int count[kMaxBins] = {};
+  const double ia = 1 / inner.a, ib = 1 / inner.b;
+  const double k_min2 = k_min * k_min, k_max2 = k_max * k_max;
+  for (int y = y0; y <= y1; ++y) {
+    const std::uint8_t* edges = in.edge_map + y * in.stride;
+    const std::int16_t* gxs = in.dx + y * in.grad_stride;
+    const std::int16_t* gys = in.dy + y * in.grad_stride;
+    for (int x = x0; x <= x1; ++x) {
+      if (edges[x] == 0) continue;
+      const double ddx = x - inner.cx, ddy = y - inner.cy;
+      const double u = (ddx * c + ddy * s) * ia, v = (ddy * c - ddx * s) * ib;  // unit-circle frame
+      const double r2 = u * u + v * v;
+      if (r2 < k_min2 || r2 >= k_max2) continue;
+      // The normal of every k * inner at this pixel: (u / a, v / b) in the ellipse frame.
+      const double nu = u * ia, nv = v * ib;
+      const double nx = nu * c - nv * s, ny = nu * s + nv * c;
+      const double gx = gxs[x], gy = gys[x];
+      const double dot = gx * nx + gy * ny;
+      if (dot * dot < kMinCos2 * (gx * gx + gy * gy) * (nx * nx + ny * ny)) continue;
+      const double r = std::sqrt(r2);
+      const int b = static_cast<int>((r - k_min) / bin);
+      if (b >= bins) continue;
+      const double angle = std::atan2(v, u) + std::numbers::pi;  // [0, 2 pi]
+      const int sector = static_cast<int>(angle * (kSectors / (2 * std::numbers::pi))) & (kSectors - 1);
+      sectors[b] |= std::uint64_t{1} << sector;
+      radius_sum[b] += r;
+      ++count[b];
+    }
+  }
+  int best = -1, best_covered = 0;
+  for (int i = 0; i < bins; ++i) {
+    std::uint64_t band = 0;
+    for (int j = std::max(0, i - half); j <= std::min(bins - 1, i + half); ++j) band |= sectors[j];
+    const int covered = std::popcount(band);
+    if (covered > best_covered) {
+      best_covered = covered;
+      best = i;
+    }
+  }
+  if (best < 0 || best_covered < min_coverage * kSectors) return false;
+  double sum = 0;
+  int n = 0;
+  for (int j = std::max(0, best - half); j <= std::min(bins - 1, best + half); ++j) {
+    sum += radius_sum[j];
+    n += count[j];
+  }
+  const double k = sum / n;
+  *outer = inner;
+  outer->a = k * inner.a;
+  outer->b = k * inner.b;
+  return true;
+}
+
+}  // namespace ellipsekit

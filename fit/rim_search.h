@@ -1,0 +1,40 @@
+// Outer-rim completion, our addition (the paper has no such step). A can, cup or jar top shows
+// its lid as nested, concentric ellipses of one shape: the outer rim (the object's boundary, the
+// ground truth and what a grasp needs), the rim ring's inner edge, a groove. Where the outer rim
+// has little contrast against what lies behind it along part of its length, it never yields
+// the three arcs a candidate needs, and only an inner ellipse is detected. This step looks for
+// the outer rim as the scaled ellipse k * inner (same centre, orientation and axis ratio,
+// k in [kRimSearchMinScale, kRimSearchMaxScale]) that the edge map supports: edge pixels whose
+// gradient is normal to it, over enough of its angular extent.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "ellipsekit/types.h"
+
+namespace ellipsekit {
+
+inline constexpr double kRimSearchMinScale = 1.04;
+inline constexpr double kRimSearchMaxScale = 1.45;
+
+struct RimSearchInput {
+  const std::uint8_t* edge_map;  // non-zero: edge pixel; rows `stride` bytes apart
+  std::ptrdiff_t stride;
+  const std::int16_t* dx;        // Sobel gradients, rows grad_stride elements apart
+  const std::int16_t* dy;
+  std::ptrdiff_t grad_stride;
+  int width, height;
+};
+
+// Searches k * inner for k in [max(kRimSearchMinScale, 1 + 1.5 / inner.b), kRimSearchMaxScale]:
+// an edge pixel supports scale r (its normalised radius in inner's frame) when its gradient is
+// within ~26 degrees of the ellipse normal there; the scale whose +-1 px band has supporting
+// pixels in the most of 64 equal sectors of the ellipse's angle wins (ties: the smaller scale).
+// Returns true and sets *outer (scale = the mean radius of the band's pixels, score kept from
+// inner) when that coverage is >= min_coverage. *scanned_pixels = the pixels of the search box
+// (clipped to the frame), the work done. No allocation.
+bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
+                  long* scanned_pixels);
+
+}  // namespace ellipsekit

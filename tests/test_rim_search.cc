@@ -1,0 +1,153 @@
+// Outer-rim completion (fit/rim_search.h): on synthetic edge maps with known rings, and end to
+// end through the Detector on a drawn lid whose outer rim has contrast over only part of its length.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "ellipsekit/detector.h"
+#include "fit/rim_search.h"
+
+namespace {
+
+using ellipsekit::Ellipse;
+
+constexpr int kW = 200, kH = 160;
+
+// An edge map with gradients, with rings drawn into it.
+struct EdgeFrame {
+  std::vector<std::uint8_t> edges = std::vector<std::uint8_t>(kW * kH, 0);
+  std::vector<std::int16_t> dx = std::vector<std::int16_t>(kW * kH, 0), dy = std::vector<std::int16_t>(kW * kH, 0);
+
+  // Marks the pixels of scale * e over parametric angles [t0, t1), gradient along the normal
+  // (turned by `turn` rad, to make a ring whose gradients do not fit).
+  void Ring(const Ellipse& e, double scale, double t0, double t1, double turn = 0) {
+    const double a = scale * e.a, b = scale * e.b, c = std::cos(e.theta), s = std::sin(e.theta);
+    for (double t = t0; t < t1; t += 0.2 / a) {
+      const double u = a * std::cos(t), v = b * std::sin(t);
+      const int x = static_cast<int>(std::lround(e.cx + u * c - v * s));
+      const int y = static_cast<int>(std::lround(e.cy + u * s + v * c));
+      if (x < 0 || y < 0 || x >= kW || y >= kH) continue;
+      const double nu = std::cos(t) / a, nv = std::sin(t) / b;  // normal in the ellipse frame
+      const double nx = nu * c - nv * s, ny = nu * s + nv * c, len = std::hypot(nx, ny);
+      const double gx = nx * std::cos(turn) - ny * std::sin(turn), gy = nx * std::sin(turn) + ny * std::cos(turn);
+      edges[y * kW + x] = 1;
+      dx[y * kW + x] = static_cast<std::int16_t>(std::lround(200 * gx / len));
+      dy[y * kW + x] = static_cast<std::int16_t>(std::lround(200 * gy / len));
+    }
+  }
+  ellipsekit::RimSearchInput Input() const { return {edges.data(), kW, dx.data(), dy.data(), kW, kW, kH}; }
+};
+
+Ellipse Inner() {
+  Ellipse e;
+  e.cx = 97.3;
+  e.cy = 81.6;
+  e.a = 40;
+  e.b = 26;
+  e.theta = 0.3;
+  e.score = 1.7;
+  return e;
+}
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+TEST(RimSearch, FindsAFullOuterRingAtItsScale) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.0, 0, kTwoPi);   // the inner ellipse itself: never its own rim
+  f.Ring(Inner(), 1.22, 0, kTwoPi);  // the outer rim
+  Ellipse rim;
+  long scanned = 0;
+  ASSERT_TRUE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.6, &rim, &scanned));
+  EXPECT_NEAR(rim.a, 1.22 * Inner().a, 0.6);
+  EXPECT_NEAR(rim.b, 1.22 * Inner().b, 0.6);
+  EXPECT_EQ(rim.cx, Inner().cx);
+  EXPECT_EQ(rim.cy, Inner().cy);
+  EXPECT_EQ(rim.theta, Inner().theta);
+  EXPECT_EQ(rim.score, Inner().score);
+  EXPECT_GT(scanned, 0);
+  EXPECT_LE(scanned, static_cast<long>(kW) * kH);
+}
+
+TEST(RimSearch, CoverageDecides) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.3, 0.2, 0.2 + 0.45 * kTwoPi);  // 45 % of the angle
+  Ellipse rim;
+  long scanned = 0;
+  EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.6, &rim, &scanned));
+  EXPECT_TRUE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.4, &rim, &scanned));
+  EXPECT_NEAR(rim.a, 1.3 * Inner().a, 0.6);
+}
+
+TEST(RimSearch, RejectsRingsWithWrongGradientsOrOutOfRange) {
+  Ellipse rim;
+  long scanned = 0;
+  EdgeFrame tangential;  // edge pixels on a concentric ring, but gradients along it (texture)
+  tangential.Ring(Inner(), 1.2, 0, kTwoPi, std::numbers::pi / 2);
+  EXPECT_FALSE(ellipsekit::FindOuterRim(tangential.Input(), Inner(), 0.6, &rim, &scanned));
+  EdgeFrame too_far;  // beyond kRimSearchMaxScale
+  too_far.Ring(Inner(), 1.6, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindOuterRim(too_far.Input(), Inner(), 0.6, &rim, &scanned));
+  EdgeFrame shifted;  // a same-shaped ring 12 px lower: not concentric
+  Ellipse low = Inner();
+  low.cy += 12;
+  shifted.Ring(low, 1.2, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindOuterRim(shifted.Input(), Inner(), 0.6, &rim, &scanned));
+}
+
+TEST(RimSearch, EllipsesAtOrBeyondTheBorderAreSafe) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.2, 0, kTwoPi);
+  Ellipse rim, e = Inner();
+  long scanned = 0;
+  e.cx = -500;  // the search box misses the frame
+  EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned));
+  EXPECT_EQ(scanned, 0);
+  e = Inner();
+  e.cx = 5;  // partly outside: the box is clipped
+  ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned);
+  EXPECT_LE(scanned, static_cast<long>(kW) * kH);
+  e = Inner();
+  e.b = 1;  // too small to have a rim band outside its own edge
+  EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned));
+}
+
+// A lid drawn as a dark inner disc in a bright rim ring whose outer edge has contrast against the
+// background along its lower half only (the upper half of the ring is the background's gray): the
+// outer rim's arcs lie in two quadrants, too few for a triplet, so only the inner edge is a
+// candidate; the search, asked for half the angle, completes the outer rim.
+TEST(RimSearch, DetectorReportsTheOuterRimOfADrawnLid) {
+  cv::Mat img(240, 320, CV_8UC1, cv::Scalar(110));
+  const cv::Point centre(160, 120);
+  const cv::Size outer(70, 45), inner(56, 36);  // 1.25x
+  cv::ellipse(img, centre, outer, 20, 0, 180, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
+  cv::ellipse(img, centre, inner, 20, 0, 360, cv::Scalar(40), cv::FILLED, cv::LINE_AA);
+  ellipsekit::ImageView view{img.data, img.cols, img.rows, static_cast<std::ptrdiff_t>(img.step[0])};
+  auto run = [&](double coverage) {
+    ellipsekit::Options o;
+    o.rim_min_coverage = coverage;
+    ellipsekit::Detector d(o);
+    EXPECT_TRUE(d.status().ok());
+    ellipsekit::DetectionResult r;
+    EXPECT_TRUE(d.detect(view, &r).ok());
+    EXPECT_EQ(r.caps_hit & ellipsekit::kCapRimSearch, 0u);
+    return r.ellipses;
+  };
+  const std::vector<Ellipse> without = run(2.0);  // search off
+  ASSERT_FALSE(without.empty());
+  EXPECT_NEAR(without[0].a, inner.width, 2.0) << "the inner edge is what the arcs give";
+  EXPECT_NEAR(run(0.6)[0].a, inner.width, 2.0) << "50 % coverage is below 0.6";
+  const std::vector<Ellipse> with = run(0.45);
+  ASSERT_FALSE(with.empty());
+  EXPECT_NEAR(with[0].a, outer.width, 2.0);
+  EXPECT_NEAR(with[0].b, outer.height, 2.0);
+  EXPECT_NEAR(with[0].cx, centre.x, 1.0);
+  EXPECT_NEAR(with[0].cy, centre.y, 1.0);
+}
+
+}  // namespace
