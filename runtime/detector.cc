@@ -312,6 +312,18 @@ const Options& Detector::options() const {
   return impl_ ? impl_->options : kDefaults;
 }
 
+const char* CapName(CapFlags cap) {
+  switch (cap) {
+    case kCapArcs: return "max_arcs";
+    case kCapPairs: return "max_pairs";
+    case kCapTriplets: return "max_triplets";
+    case kCapCandidates: return "max_candidates";
+    case kCapMeanShift: return "max_mean_shift_iterations";
+    case kCapRimSearch: return "rim_search_budget";
+    default: return "";
+  }
+}
+
 Status Detector::detect(const ImageView& image, DetectionResult* result) {
   if (result == nullptr) return Invalid("result is null");
   if (!impl_) return MovedFrom();

@@ -208,5 +208,22 @@ TEST(RobustnessApi, ExtremeValidOptions) {
   }
 }
 
+// Every cap has its own non-empty name (the CLI's caps_hit list and logs print them); other
+// values have none.
+TEST(RobustnessApi, CapNamesAreDistinct) {
+  std::vector<std::string> names;
+  unsigned all = 0;
+  for (const CapFlags cap : kAllCaps) {
+    const std::string name = CapName(cap);
+    EXPECT_FALSE(name.empty()) << cap;
+    for (const std::string& other : names) EXPECT_NE(name, other);
+    names.push_back(name);
+    EXPECT_EQ(all & cap, 0u) << "flags are distinct bits";
+    all |= cap;
+  }
+  EXPECT_STREQ(CapName(kCapNone), "");
+  EXPECT_STREQ(CapName(static_cast<CapFlags>(1u << 31)), "");
+}
+
 }  // namespace
 }  // namespace ellipsekit

@@ -90,11 +90,8 @@ cv::Mat RandomSegments(int count) {
 
 std::string CapNames(unsigned caps) {
   std::string s;
-  const std::pair<unsigned, const char*> names[] = {{kCapArcs, "arcs"}, {kCapPairs, "pairs"},
-                                                    {kCapTriplets, "triplets"}, {kCapCandidates, "candidates"},
-                                                    {kCapMeanShift, "mean_shift"}};
-  for (const auto& [bit, name] : names)
-    if (caps & bit) s += (s.empty() ? "" : "+") + std::string(name);
+  for (const CapFlags bit : kAllCaps)
+    if (caps & bit) s += (s.empty() ? "" : "+") + std::string(CapName(bit));
   return s.empty() ? "none" : s;
 }
 

@@ -38,6 +38,11 @@ enum CapFlags : unsigned {
   kCapMeanShift = 1u << 4,
   kCapRimSearch = 1u << 5,  // the outer-rim search scanned 2 frames' worth of pixels and stopped
 };
+inline constexpr CapFlags kAllCaps[] = {kCapArcs, kCapPairs, kCapTriplets, kCapCandidates, kCapMeanShift, kCapRimSearch};
+
+// The name of a cap: the Options field that sets it ("max_arcs", ..., "max_mean_shift_iterations"),
+// or "rim_search_budget" for kCapRimSearch; "" for anything else.
+const char* CapName(CapFlags cap);
 
 struct DetectionResult {
   std::vector<Ellipse> ellipses;  // best score first

@@ -37,7 +37,7 @@ const char kDetectUsage[] =
     "json output: one array of {path, median_ms, backend, ellipses: [{cx, cy, a, b, theta, score}],\n"
     "  timings: {edges_ms, curves_ms, arcs_ms, fit_ms, validate_ms, total_ms} (per-stage medians),\n"
     "  counts: {edge_pixels, curves, arcs, pairs, triplets, candidates, caps_hit}} (the last run;\n"
-    "  caps_hit names the caps of ellipsekit/options.h that bounded the work, [] when none).\n"
+    "  caps_hit names the caps that bounded the work (CapName in ellipsekit/detector.h), [] when none).\n"
     "Conventions: pixel centres at integers, x right, y down; a >= b semi-axes in px; theta in rad,\n"
     "the major axis along (cos theta, sin theta) (OpenCV RotatedRect angle).\n"
     "A missing or unreadable image is reported on stderr, the others are processed, exit status 1.\n";
@@ -97,15 +97,10 @@ std::string ReportJson(const ImageReport& r) {
        std::to_string(d.num_curves) + ", \"arcs\": " + std::to_string(d.num_arcs) + ", \"pairs\": " +
        std::to_string(d.num_pairs) + ", \"triplets\": " + std::to_string(d.num_triplets) +
        ", \"candidates\": " + std::to_string(d.num_candidates) + ", \"caps_hit\": [";
-  const std::pair<unsigned, const char*> caps[] = {{kCapArcs, "max_arcs"},
-                                                   {kCapPairs, "max_pairs"},
-                                                   {kCapTriplets, "max_triplets"},
-                                                   {kCapCandidates, "max_candidates"},
-                                                   {kCapMeanShift, "max_mean_shift_iterations"}};
   bool first = true;
-  for (const auto& [flag, name] : caps) {
+  for (const CapFlags flag : kAllCaps) {
     if ((d.caps_hit & flag) == 0) continue;
-    s += (first ? "" : ", ") + JsonString(name);
+    s += (first ? "" : ", ") + JsonString(CapName(flag));
     first = false;
   }
   s += "]}}";
