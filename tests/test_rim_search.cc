@@ -150,4 +150,19 @@ TEST(RimSearch, DetectorReportsTheOuterRimOfADrawnLid) {
   EXPECT_NEAR(with[0].cy, centre.y, 1.0);
 }
 
+// Bounded work: the search scans at most ~2 frames' worth of pixels per frame, then stops and says
+// so. Six large overlapping circles: each search box covers most of the frame.
+TEST(RimSearch, BudgetIsBoundedAndReported) {
+  cv::Mat img(240, 320, CV_8UC1, cv::Scalar(60));
+  for (int i = 0; i < 6; ++i) {
+    cv::circle(img, cv::Point(100 + 25 * i, 110 + 8 * (i % 2)), 90 - 4 * i, cv::Scalar(200), 2, cv::LINE_AA);
+  }
+  ellipsekit::ImageView view{img.data, img.cols, img.rows, static_cast<std::ptrdiff_t>(img.step[0])};
+  ellipsekit::Detector d;
+  ellipsekit::DetectionResult r;
+  ASSERT_TRUE(d.detect(view, &r).ok());
+  EXPECT_GE(r.ellipses.size(), 4u);
+  EXPECT_NE(r.caps_hit & ellipsekit::kCapRimSearch, 0u) << r.ellipses.size() << " ellipses";
+}
+
 }  // namespace
