@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 namespace ellipsekit {
@@ -47,6 +48,14 @@ bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_cov
     const std::int16_t* gxs = in.dx + y * in.grad_stride;
     const std::int16_t* gys = in.dy + y * in.grad_stride;
     for (int x = x0; x <= x1; ++x) {
+      if (x + 8 <= x1 + 1) {  // edge pixels are sparse: skip empty runs of 8
+        std::uint64_t word;
+        std::memcpy(&word, edges + x, sizeof word);
+        if (word == 0) {
+          x += 7;
+          continue;
+        }
+      }
       if (edges[x] == 0) continue;
       const double ddx = x - inner.cx, ddy = y - inner.cy;
       const double u = (ddx * c + ddy * s) * ia, v = (ddy * c - ddx * s) * ib;  // unit-circle frame
