@@ -32,7 +32,6 @@ bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_cov
   const int y0 = static_cast<int>(std::max(0.0, std::floor(inner.cy - hy)));
   const int y1 = static_cast<int>(std::min(in.height - 1.0, std::ceil(inner.cy + hy)));
   if (x0 > x1 || y0 > y1) return false;
-  *scanned_pixels = static_cast<long>(x1 - x0 + 1) * (y1 - y0 + 1);
 
   // Radius bins of ~0.5 px on the minor axis; a band of +-1 px is `half` bins either side.
   const double bin = std::max(0.5 / inner.b, (k_max - k_min) / kMaxBins);
@@ -43,12 +42,24 @@ bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_cov
   int count[kMaxBins] = {};
   const double ia = 1 / inner.a, ib = 1 / inner.b;
   const double k_min2 = k_min * k_min, k_max2 = k_max * k_max;
-  for (int y = y0; y <= y1; ++y) {
+  // Row spans of the annulus k_min^2 <= r^2 < k_max^2, r^2 = A dx^2 + B dx dy + C dy^2, widened by a
+  // pixel so that rounding never drops a pixel the exact test below would keep.
+  const double qa = c * c * ia * ia + s * s * ib * ib, qb = 2 * c * s * (ia * ia - ib * ib);
+  const double qc = s * s * ia * ia + c * c * ib * ib;
+  auto span = [&](double dy, double k2, double* lo, double* hi) {  // false: the row misses k * inner
+    const double disc = qb * qb * dy * dy - 4 * qa * (qc * dy * dy - k2);
+    if (disc < 0) return false;
+    const double root = std::sqrt(disc);
+    *lo = (-qb * dy - root) / (2 * qa);
+    *hi = (-qb * dy + root) / (2 * qa);
+    return true;
+  };
+  auto scan = [&](int y, int xa, int xb) {
     const std::uint8_t* edges = in.edge_map + y * in.stride;
     const std::int16_t* gxs = in.dx + y * in.grad_stride;
     const std::int16_t* gys = in.dy + y * in.grad_stride;
-    for (int x = x0; x <= x1; ++x) {
-      if (x + 8 <= x1 + 1) {  // edge pixels are sparse: skip empty runs of 8
+    for (int x = xa; x <= xb; ++x) {
+      if (x + 8 <= xb + 1) {  // edge pixels are sparse: skip empty runs of 8
         std::uint64_t word;
         std::memcpy(&word, edges + x, sizeof word);
         if (word == 0) {
@@ -76,7 +87,29 @@ bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_cov
       radius_sum[b] += r;
       ++count[b];
     }
+  };
+  long scanned = 0;
+  for (int y = y0; y <= y1; ++y) {
+    const double dy = y - inner.cy;
+    double out_lo, out_hi, in_lo, in_hi;
+    if (!span(dy, k_max2, &out_lo, &out_hi)) continue;
+    const int xa = std::max(x0, static_cast<int>(std::floor(inner.cx + out_lo)) - 1);
+    const int xb = std::min(x1, static_cast<int>(std::ceil(inner.cx + out_hi)) + 1);
+    int skip_a = xb + 1, skip_b = xb;  // [skip_a, skip_b]: inside k_min * inner, not scanned
+    if (span(dy, k_min2, &in_lo, &in_hi)) {
+      skip_a = std::max(xa, static_cast<int>(std::ceil(inner.cx + in_lo)) + 1);
+      skip_b = std::min(xb, static_cast<int>(std::floor(inner.cx + in_hi)) - 1);
+    }
+    if (skip_a > skip_b) {
+      scan(y, xa, xb);
+      scanned += xb - xa + 1;
+    } else {
+      scan(y, xa, skip_a - 1);
+      scan(y, skip_b + 1, xb);
+      scanned += (skip_a - xa) + (xb - skip_b);
+    }
   }
+  *scanned_pixels = scanned;
   int best = -1, best_covered = 0;
   for (int i = 0; i < bins; ++i) {
     std::uint64_t band = 0;

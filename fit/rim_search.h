@@ -32,8 +32,9 @@ struct RimSearchInput {
 // within ~26 degrees of the ellipse normal there; the scale whose +-1 px band has supporting
 // pixels in the most of 64 equal sectors of the ellipse's angle wins (ties: the smaller scale).
 // Returns true and sets *outer (scale = the mean radius of the band's pixels, score kept from
-// inner) when that coverage is >= min_coverage. *scanned_pixels = the pixels of the search box
-// (clipped to the frame), the work done. No allocation.
+// inner) when that coverage is >= min_coverage. Scans only the annulus between k_min * inner and
+// k_max * inner, row by row (clipped to the frame); *scanned_pixels = the pixels scanned, the work
+// done. No allocation.
 bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
                   long* scanned_pixels);
 
