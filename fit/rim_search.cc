@@ -16,7 +16,7 @@ constexpr double kMinCos2 = 0.8;  // gradient within ~26.6 degrees of the normal
 
 }  // namespace
 
-bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
+bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
                   long* scanned_pixels) {
   *scanned_pixels = 0;
   if (!(inner.b >= 2) || !(inner.a >= inner.b)) return false;

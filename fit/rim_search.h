@@ -12,20 +12,13 @@
 #include <cstdint>
 
 #include "ellipsekit/types.h"
+#include "fit/edge_map_view.h"
 
 namespace ellipsekit {
 
 inline constexpr double kRimSearchMinScale = 1.04;
 inline constexpr double kRimSearchMaxScale = 1.45;
 
-struct RimSearchInput {
-  const std::uint8_t* edge_map;  // non-zero: edge pixel; rows `stride` bytes apart
-  std::ptrdiff_t stride;
-  const std::int16_t* dx;        // Sobel gradients, rows grad_stride elements apart
-  const std::int16_t* dy;
-  std::ptrdiff_t grad_stride;
-  int width, height;
-};
 
 // Searches k * inner for k in [max(kRimSearchMinScale, 1 + 1.5 / inner.b), kRimSearchMaxScale]:
 // an edge pixel supports scale r (its normalised radius in inner's frame) when its gradient is
@@ -35,7 +28,7 @@ struct RimSearchInput {
 // inner) when that coverage is >= min_coverage. Scans only the annulus between k_min * inner and
 // k_max * inner, row by row (clipped to the frame); *scanned_pixels = the pixels scanned, the work
 // done. No allocation.
-bool FindOuterRim(const RimSearchInput& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
+bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
                   long* scanned_pixels);
 
 }  // namespace ellipsekit

@@ -13,6 +13,7 @@
 #include "fit/clustering.h"
 #include "fit/curve_tracing.h"
 #include "fit/rim_search.h"
+#include "fit/edge_coverage.h"
 #include "fit/grouping.h"
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
@@ -68,6 +69,8 @@ Status ValidateOptions(const Options& o) {
   if (!Finite(o.cluster_relative) || o.cluster_relative < 0 || o.cluster_relative > 1)
     return Invalid("cluster_relative must be in [0, 1]");
   if (!Finite(o.cluster_outer_margin)) return Invalid("cluster_outer_margin must be a finite number");
+  if (!Finite(o.min_edge_coverage) || o.min_edge_coverage < 0 || o.min_edge_coverage > 1)
+    return Invalid("min_edge_coverage must be in [0, 1]");
   if (!Finite(o.rim_min_coverage) || o.rim_min_coverage < 0)
     return Invalid("rim_min_coverage must be >= 0 (> 1 turns the outer-rim search off)");
   if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
@@ -159,13 +162,14 @@ struct Detector::Impl {
 
   Status Detect(const ImageView& image, DetectionResult* result);
   void CompleteOuterRims(int kept, GroupStats* stats);
+  EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 
 // Outer-rim completion (fit/rim_search.h) of candidates[0, kept), best first, within a budget of
 // two frames' worth of scanned pixels (kCapRimSearch when it runs out).
 void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
   if (!(options.rim_min_coverage <= 1)) return;
-  const RimSearchInput in{edge_map.data(), width, dx.data(), dy.data(), width, width, height};
+  const EdgeMapView in = EdgeView();
   long budget = 2L * width * height;
   for (int i = 0; i < kept; ++i) {
     Candidate& c = candidates[i];
@@ -250,10 +254,15 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   GroupStats gs;
   if (arcs_capped) gs.caps_hit |= kCapArcs;
   FindCandidates(curves, arcs, options, &groups, &candidates, &gs);
+  const int num_candidates = static_cast<int>(candidates.size());
   const auto t4 = Clock::now();
 
-  // Clustering (sec. II-D-3).
-  const int num_candidates = static_cast<int>(candidates.size());
+  // Edge coverage (our addition, fit/edge_coverage.h), clustering (sec. II-D-3), outer rims.
+  if (options.min_edge_coverage > 0) {
+    std::erase_if(candidates, [&](const Candidate& c) {
+      return EdgeCoverage(EdgeView(), c.ellipse) < options.min_edge_coverage;
+    });
+  }
   const int kept = ClusterCandidates(&candidates, options);
   CompleteOuterRims(kept, &gs);
   r->ellipses.clear();

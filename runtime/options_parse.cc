@@ -59,6 +59,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"cluster_relative", &Options::cluster_relative},
       {"cluster_outer_margin", &Options::cluster_outer_margin},
       {"rim_min_coverage", &Options::rim_min_coverage},
+      {"min_edge_coverage", &Options::min_edge_coverage},
   };
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},

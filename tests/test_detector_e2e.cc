@@ -147,9 +147,10 @@ struct Tally {
   std::vector<Ellipse> detections;  // for backend comparison
 };
 
-Tally RunScenes(Backend backend, bool occlude, std::uint32_t seed0, int min_truth) {
+Tally RunScenes(Backend backend, bool occlude, std::uint32_t seed0, int min_truth, double min_edge_coverage = -1) {
   Options o;
   o.backend = backend;
+  if (min_edge_coverage >= 0) o.min_edge_coverage = min_edge_coverage;
   Detector det(o);
   EXPECT_TRUE(det.status().ok()) << det.status().message();
   Tally t;
@@ -204,12 +205,15 @@ TEST_P(DetectorE2E, RecoversWholeEllipses) {
 }
 
 TEST_P(DetectorE2E, RecoversHalfOccludedEllipses) {
-  const Tally t = RunScenes(GetParam(), /*occlude=*/true, 5000, kMinTruth);
+  // Half an outline is below the default edge coverage (Options::min_edge_coverage 0.7, which the
+  // generated scenes and the real datasets favour; with it none of these 40 is reported): a
+  // caller expecting heavy occlusion lowers it, as here.
+  const Tally t = RunScenes(GetParam(), /*occlude=*/true, 5000, kMinTruth, /*min_edge_coverage=*/0.4);
   Report("half-occluded ellipses", GetParam(), t);
   ASSERT_GE(t.truth, kMinTruth);
   // Half the rim leaves one full quadrant and two half quadrants, so the arc triplet is short and
-  // the fit less exact: measured (seeds 5000.., 40 ellipses) 5 of 40 within 1 px / 2 % / 2 deg,
-  // 6 of 40 with Jaccard > 0.8 (the detector needs arcs from three quadrants).
+  // the fit less exact: measured (seeds 5000.., 40 ellipses, min_edge_coverage 0.4) 17 of 40 within
+  // 1 px / 2 % / 2 deg, 22 of 40 with Jaccard > 0.8 (the detector needs arcs from three quadrants).
   EXPECT_GE(t.found_jaccard, 5);
   // The occluders' straight edges must not produce ellipses of their own.
   EXPECT_LE(t.false_positives, 2);

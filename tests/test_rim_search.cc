@@ -1,5 +1,6 @@
-// Outer-rim completion (fit/rim_search.h): on synthetic edge maps with known rings, and end to
-// end through the Detector on a drawn lid whose outer rim has contrast over only part of its length.
+// The edge-map checks of the fit back end on synthetic edge maps with known rings: outer-rim
+// completion (fit/rim_search.h), also end to end through the Detector on a drawn lid whose outer
+// rim has contrast over only part of its length, and edge coverage (fit/edge_coverage.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ellipsekit/detector.h"
+#include "fit/edge_coverage.h"
 #include "fit/rim_search.h"
 
 namespace {
@@ -41,7 +43,7 @@ struct EdgeFrame {
       dy[y * kW + x] = static_cast<std::int16_t>(std::lround(200 * gy / len));
     }
   }
-  ellipsekit::RimSearchInput Input() const { return {edges.data(), kW, dx.data(), dy.data(), kW, kW, kH}; }
+  ellipsekit::EdgeMapView Input() const { return {edges.data(), kW, dx.data(), dy.data(), kW, kW, kH}; }
 };
 
 Ellipse Inner() {
@@ -163,6 +165,26 @@ TEST(RimSearch, BudgetIsBoundedAndReported) {
   ASSERT_TRUE(d.detect(view, &r).ok());
   EXPECT_GE(r.ellipses.size(), 4u);
   EXPECT_NE(r.caps_hit & ellipsekit::kCapRimSearch, 0u) << r.ellipses.size() << " ellipses";
+}
+
+TEST(EdgeCoverage, IsTheShareOfTheOutlineWithNormalEdges) {
+  EdgeFrame full, part, tangential;
+  full.Ring(Inner(), 1.0, 0, kTwoPi);
+  part.Ring(Inner(), 1.0, 0, 0.5 * kTwoPi);
+  tangential.Ring(Inner(), 1.0, 0, kTwoPi, std::numbers::pi / 2);
+  EXPECT_GE(ellipsekit::EdgeCoverage(full.Input(), Inner()), 0.98);
+  EXPECT_NEAR(ellipsekit::EdgeCoverage(part.Input(), Inner()), 0.5, 0.04);
+  EXPECT_EQ(ellipsekit::EdgeCoverage(tangential.Input(), Inner()), 0.0);
+  Ellipse larger = Inner();  // 1.15x: 4-6 px off the ring, beyond the 3x3 neighbourhood
+  larger.a *= 1.15;
+  larger.b *= 1.15;
+  EXPECT_EQ(ellipsekit::EdgeCoverage(full.Input(), larger), 0.0);
+  Ellipse shifted = Inner();  // 3 px down: only the near-vertical parts of the ring stay in reach
+  shifted.cy += 3;
+  EXPECT_LE(ellipsekit::EdgeCoverage(full.Input(), shifted), 0.6);
+  Ellipse outside = Inner();
+  outside.cx = -1000;
+  EXPECT_EQ(ellipsekit::EdgeCoverage(full.Input(), outside), 0.0);
 }
 
 }  // namespace

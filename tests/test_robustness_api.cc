@@ -182,6 +182,8 @@ TEST(RobustnessApi, ExtremeValidOptions) {
       {"huge distances", [](Options* o) { o->center_distance = 1e300; o->mean_shift_bandwidth = 1e300; o->distance_ratio = 1e300; o->cluster_distance = 1e300; o->inlier_threshold = 1e300; }},
       {"tiny distances", [](Options* o) { o->center_distance = 1e-300; o->mean_shift_bandwidth = 1e-300; o->inlier_threshold = 1e-300; }},
       {"loose", [](Options* o) { o->min_curve_points = 3; o->obb_threshold = 0; o->polyline_tolerance = 4; o->split_angle_deg = 60; o->length_ratio = 0; o->circumference_ratio = 0; o->refined_circumference_ratio = 0; }},
+      {"coverage checks off", [](Options* o) { o->min_edge_coverage = 0; o->rim_min_coverage = 1e300; }},
+      {"coverage 1", [](Options* o) { o->min_edge_coverage = 1; o->rim_min_coverage = 0; }},
       {"negative margin", [](Options* o) { o->cluster_outer_margin = -1e9; o->cluster_rule = ClusterRule::kRelative; o->cluster_relative = 1; }},
       {"arc chords algebraic", [](Options* o) { o->center_method = CenterMethod::kArcChords; o->inlier_rule = InlierRule::kAlgebraic; o->obb_rule = ObbRule::kSideRatio; o->obb_threshold = 1e300; }},
   };

@@ -23,8 +23,8 @@ struct StageTimings {
   double edges_ms = 0;     // blur, Sobel, thresholds, NMS, hysteresis, sign classification
   double curves_ms = 0;    // 8-connected curve tracing, T_n / OBB filter
   double arcs_ms = 0;      // polyline, turn angles, split, arc statistics, quadrants
-  double fit_ms = 0;       // grouping, centres, parameters
-  double validate_ms = 0;  // eqs. 13-17
+  double fit_ms = 0;       // grouping, centres, parameters, K and psi (eqs. 3-16)
+  double validate_ms = 0;  // edge coverage, clustering (eq. 17), outer-rim search
   double total_ms = 0;
 };
 
@@ -54,7 +54,7 @@ struct DetectionResult {
   int num_arcs = 0;
   int num_pairs = 0;       // arc pairs that passed the position test and gave a centre
   int num_triplets = 0;    // triplets examined (bounded by Options::max_triplets)
-  int num_candidates = 0;
+  int num_candidates = 0;  // groups that passed K and psi (bounded by Options::max_candidates)
 };
 
 class Detector {

@@ -1,0 +1,43 @@
+#include "fit/edge_coverage.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace ellipsekit {
+
+namespace {
+constexpr int kSectors = 64;
+constexpr int kSamplesPerSector = 4;
+constexpr double kMinCos2 = 0.8;
+}  // namespace
+
+double EdgeCoverage(const EdgeMapView& in, const Ellipse& e) {
+  const double c = std::cos(e.theta), s = std::sin(e.theta);
+  constexpr double kStep = 2 * std::numbers::pi / (kSectors * kSamplesPerSector);
+  int covered = 0;
+  for (int sector = 0; sector < kSectors; ++sector) {
+    bool hit = false;
+    for (int k = 0; k < kSamplesPerSector && !hit; ++k) {
+      const double t = (sector * kSamplesPerSector + k + 0.5) * kStep;
+      const double ct = std::cos(t), st = std::sin(t);
+      const double px = e.cx + e.a * ct * c - e.b * st * s, py = e.cy + e.a * ct * s + e.b * st * c;
+      // The outward normal at t: (b cos t, a sin t) in the ellipse frame.
+      const double nu = e.b * ct, nv = e.a * st;
+      const double nx = nu * c - nv * s, ny = nu * s + nv * c, n2 = nx * nx + ny * ny;
+      const int x0 = static_cast<int>(std::lround(px)), y0 = static_cast<int>(std::lround(py));
+      for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
+        if (y < 0 || y >= in.height) continue;
+        for (int x = x0 - 1; x <= x0 + 1 && !hit; ++x) {
+          if (x < 0 || x >= in.width || in.edge_map[y * in.stride + x] == 0) continue;
+          const double gx = in.dx[y * in.grad_stride + x], gy = in.dy[y * in.grad_stride + x];
+          const double dot = gx * nx + gy * ny;
+          hit = dot * dot >= kMinCos2 * (gx * gx + gy * gy) * n2;
+        }
+      }
+    }
+    covered += hit;
+  }
+  return static_cast<double>(covered) / kSectors;
+}
+
+}  // namespace ellipsekit
