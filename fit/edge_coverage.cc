@@ -1,6 +1,8 @@
 #include "fit/edge_coverage.h"
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 
 namespace ellipsekit {
@@ -11,15 +13,24 @@ constexpr int kSamplesPerSector = 4;
 constexpr double kMinCos2 = 0.8;
 }  // namespace
 
-double EdgeCoverage(const EdgeMapView& in, const Ellipse& e) {
+double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share) {
+  // (cos t, sin t) of the 256 sample angles, computed once.
+  static const auto kUnit = [] {
+    std::array<std::array<double, 2>, kSectors * kSamplesPerSector> unit{};
+    for (std::size_t i = 0; i < unit.size(); ++i) {
+      const double t = (i + 0.5) * (2 * std::numbers::pi / unit.size());
+      unit[i] = {std::cos(t), std::sin(t)};
+    }
+    return unit;
+  }();
   const double c = std::cos(e.theta), s = std::sin(e.theta);
-  constexpr double kStep = 2 * std::numbers::pi / (kSectors * kSamplesPerSector);
+  const int needed = static_cast<int>(std::ceil(min_share * kSectors));
   int covered = 0;
   for (int sector = 0; sector < kSectors; ++sector) {
+    if (covered + (kSectors - sector) < needed) break;  // min_share is out of reach
     bool hit = false;
     for (int k = 0; k < kSamplesPerSector && !hit; ++k) {
-      const double t = (sector * kSamplesPerSector + k + 0.5) * kStep;
-      const double ct = std::cos(t), st = std::sin(t);
+      const auto [ct, st] = kUnit[sector * kSamplesPerSector + k];
       const double px = e.cx + e.a * ct * c - e.b * st * s, py = e.cy + e.a * ct * s + e.b * st * c;
       // The outward normal at t: (b cos t, a sin t) in the ellipse frame.
       const double nu = e.b * ct, nv = e.a * st;

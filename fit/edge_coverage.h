@@ -11,8 +11,9 @@
 
 namespace ellipsekit {
 
-// In [0, 1]. Work: 256 samples x 9 pixels, whatever the ellipse; samples outside the frame do
-// not cover.
-double EdgeCoverage(const EdgeMapView& in, const Ellipse& e);
+// In [0, 1]. Work: at most 256 samples x 9 pixels, whatever the ellipse; samples outside the
+// frame do not cover. With min_share > 0 it stops as soon as min_share is out of reach and returns
+// the share found so far (then < min_share): the same accept/reject decision, less work.
+double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share = 0);
 
 }  // namespace ellipsekit

@@ -260,7 +260,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   // Edge coverage (our addition, fit/edge_coverage.h), clustering (sec. II-D-3), outer rims.
   if (options.min_edge_coverage > 0) {
     std::erase_if(candidates, [&](const Candidate& c) {
-      return EdgeCoverage(EdgeView(), c.ellipse) < options.min_edge_coverage;
+      return EdgeCoverage(EdgeView(), c.ellipse, options.min_edge_coverage) < options.min_edge_coverage;
     });
   }
   const int kept = ClusterCandidates(&candidates, options);

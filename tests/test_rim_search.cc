@@ -175,6 +175,10 @@ TEST(EdgeCoverage, IsTheShareOfTheOutlineWithNormalEdges) {
   EXPECT_GE(ellipsekit::EdgeCoverage(full.Input(), Inner()), 0.98);
   EXPECT_NEAR(ellipsekit::EdgeCoverage(part.Input(), Inner()), 0.5, 0.04);
   EXPECT_EQ(ellipsekit::EdgeCoverage(tangential.Input(), Inner()), 0.0);
+  // With a minimum share it may stop early, but the decision is the same.
+  EXPECT_GE(ellipsekit::EdgeCoverage(full.Input(), Inner(), 0.7), 0.98);
+  EXPECT_LT(ellipsekit::EdgeCoverage(part.Input(), Inner(), 0.7), 0.7);
+  EXPECT_GE(ellipsekit::EdgeCoverage(part.Input(), Inner(), 0.45), 0.45);
   Ellipse larger = Inner();  // 1.15x: 4-6 px off the ring, beyond the 3x3 neighbourhood
   larger.a *= 1.15;
   larger.b *= 1.15;
