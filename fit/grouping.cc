@@ -58,8 +58,9 @@ bool Validate(const Curves& curves, const Arc* const* group, int count, bool ref
   if (!(e->b >= 1.0)) return false;
   const double k = LengthRatio(group, count, *e);
   if (!(k > options.length_ratio)) return false;
-  const double psi = CircumferenceRatio(curves, group, count, *e, options.inlier_rule, options.inlier_threshold);
-  if (!(psi > (refined ? options.refined_circumference_ratio : options.circumference_ratio))) return false;
+  const double min_psi = refined ? options.refined_circumference_ratio : options.circumference_ratio;
+  const double psi = CircumferenceRatio(curves, group, count, *e, options.inlier_rule, options.inlier_threshold, min_psi);
+  if (!(psi > min_psi)) return false;
   e->score = k + psi;
   return true;
 }

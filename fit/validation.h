@@ -13,7 +13,9 @@ namespace ellipsekit {
 
 double LengthRatio(const Arc* const* arcs, int count, const Ellipse& e);
 
+// With min_ratio it may stop after any arc once psi > min_ratio is out of reach, and returns a
+// value <= min_ratio then: the same accept/reject decision, less work on rejected groups.
 double CircumferenceRatio(const Curves& curves, const Arc* const* arcs, int count, const Ellipse& e,
-                          InlierRule rule, double threshold);
+                          InlierRule rule, double threshold, double min_ratio = -1);
 
 }  // namespace ellipsekit

@@ -282,7 +282,14 @@ TEST(FitValidation, CircumferenceRatioInliersAndOutliers) {
             m2 = AppendArc(e, 3.3, 4.5, 0.0, &mixed);
   const Arc* mixed_arcs[3] = {&m0, &m1, &m2};
   const double share = double(m0.points() + m2.points()) / (m0.points() + m1.points() + m2.points());
-  EXPECT_NEAR(CircumferenceRatio(mixed, mixed_arcs, 3, e.AsEllipse(), InlierRule::kPixel, 1.0), share, 0.02);
+  const double full = CircumferenceRatio(mixed, mixed_arcs, 3, e.AsEllipse(), InlierRule::kPixel, 1.0);
+  EXPECT_NEAR(full, share, 0.02);
+  // A minimum it reaches: the full value. One it cannot reach: it may stop early (after the second
+  // arc here) but returns a value that still fails "psi > minimum".
+  EXPECT_EQ(CircumferenceRatio(mixed, mixed_arcs, 3, e.AsEllipse(), InlierRule::kPixel, 1.0, full - 0.05), full);
+  const double stopped = CircumferenceRatio(mixed, mixed_arcs, 3, e.AsEllipse(), InlierRule::kPixel, 1.0, 0.9);
+  EXPECT_LE(stopped, 0.9);
+  EXPECT_GE(stopped, full);
 }
 
 // ---- (d) feature distance and clustering, eq. 17
