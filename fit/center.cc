@@ -50,21 +50,31 @@ bool PairCenter(const Arc& a, const Arc& b, CenterMethod method, Eigen::Vector2d
            IntersectLines(la, lb, center);
   }
   const std::array<EndPoint, 4> e = {{{a.p0, a.n0, 0}, {a.p1, a.n1, 0}, {b.p0, b.n0, 1}, {b.p1, b.n1, 1}}};
-  struct Chord { double length; Eigen::Vector3d line; };
+  // The six chords, longest first (a stable sort: ties keep the order below), each centre line
+  // computed only when the search reaches it; a chord whose line does not exist is skipped. The
+  // endpoints are integer pixels, so squared lengths order the chords exactly as lengths do.
+  struct Chord {
+    double length2;
+    int i, j;
+    int state;  // 0: line not computed, 1: computed, -1: no line
+    Eigen::Vector3d line;
+  };
   std::array<Chord, 6> chords;
   int n = 0;
   for (int i = 0; i < 4; ++i) {
-    for (int j = i + 1; j < 4; ++j) {
-      Eigen::Vector3d l;
-      if (ChordCenterLine(e[i].p, e[i].n, e[j].p, e[j].n, &l)) chords[n++] = {(e[i].p - e[j].p).norm(), l};
-    }
+    for (int j = i + 1; j < 4; ++j) chords[n++] = {(e[i].p - e[j].p).squaredNorm(), i, j, 0, {}};
   }
-  for (int i = 1; i < n; ++i) {  // longest first; at most 6 entries
-    for (int j = i; j > 0 && chords[j - 1].length < chords[j].length; --j) std::swap(chords[j - 1], chords[j]);
+  for (int i = 1; i < n; ++i) {
+    for (int j = i; j > 0 && chords[j - 1].length2 < chords[j].length2; --j) std::swap(chords[j - 1], chords[j]);
   }
+  auto has_line = [&](Chord& c) {
+    if (c.state == 0) c.state = ChordCenterLine(e[c.i].p, e[c.i].n, e[c.j].p, e[c.j].n, &c.line) ? 1 : -1;
+    return c.state > 0;
+  };
   for (int i = 0; i < n; ++i) {
+    if (!has_line(chords[i])) continue;
     for (int j = i + 1; j < n; ++j) {
-      if (IntersectLines(chords[i].line, chords[j].line, center)) return true;
+      if (has_line(chords[j]) && IntersectLines(chords[i].line, chords[j].line, center)) return true;
     }
   }
   return false;
