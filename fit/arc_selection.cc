@@ -34,6 +34,10 @@ bool PassesObbRule(const Curves& curves, int begin, int end, const Options& opti
                                                                    options.obb_threshold)) {
     return true;  // proven without the box
   }
+  if (options.obb_rule == ObbRule::kMinSide && ObbShortSideBelow(curves.x.data(), curves.y.data(), begin, end,
+                                                                 options.obb_threshold)) {
+    return false;  // proven without the box
+  }
   const ObbSides obb = MinAreaObb(curves.x.data(), curves.y.data(), begin, end, hull);
   if (options.obb_rule == ObbRule::kMinSide) return obb.short_side >= options.obb_threshold;
   // Side ratio: an almost straight curve has a long, thin box.

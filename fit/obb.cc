@@ -40,6 +40,26 @@ bool ObbShortSideAtLeast(const std::int32_t* x, const std::int32_t* y, int begin
   return proven_by(begin, begin + n / 2, end - 1) || proven_by(begin, begin + n / 3, begin + 2 * n / 3);
 }
 
+bool ObbShortSideBelow(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t) {
+  if (end - begin < 2) return false;
+  const double ux = x[end - 1] - x[begin], uy = y[end - 1] - y[begin];
+  const double c2 = ux * ux + uy * uy;
+  if (!(c2 > 0)) return false;
+  // Extents along and across the chord, in units of |chord|: a = along * across / c2 is the area.
+  double lo_along = 0, hi_along = 0, lo_across = 0, hi_across = 0;
+  for (int i = begin; i < end; ++i) {
+    const double dx = x[i] - x[begin], dy = y[i] - y[begin];
+    const double along = dx * ux + dy * uy, across = dx * uy - dy * ux;
+    lo_along = std::min(lo_along, along);
+    hi_along = std::max(hi_along, along);
+    lo_across = std::min(lo_across, across);
+    hi_across = std::max(hi_across, across);
+  }
+  const double area = (hi_along - lo_along) * (hi_across - lo_across) / c2;
+  // sqrt(2) A / c < t, squared; a margin of 1e-9 relative keeps rounding on the safe side.
+  return 2 * area * area < t * t * c2 * (1 - 1e-9);
+}
+
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                     std::vector<std::int64_t>* hull) {
   const int n = end - begin;

@@ -23,6 +23,12 @@ std::int64_t ObbScratchSize(std::int64_t points, std::int64_t columns);
 // false means "not proven", not "thinner than t".
 bool ObbShortSideAtLeast(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t);
 
+// A sufficient test for MinAreaObb(...).short_side < t, in one pass over the points: the box
+// aligned with the chord (first to last point) has area A >= s l of the minimal box, whose
+// diagonal covers the chord c (s^2 + l^2 >= c^2, so l >= c / sqrt 2): s <= sqrt(2) A / c. False
+// means "not proven".
+bool ObbShortSideBelow(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t);
+
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                     std::vector<std::int64_t>* hull);
 

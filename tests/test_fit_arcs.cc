@@ -391,5 +391,45 @@ TEST(FitObb, MatchesBruteForceOnRandomWalksAndScatteredPoints) {
   }
 }
 
+// The O(1) / one-pass OBB tests never contradict MinAreaObb, and each proves its case often on
+// curve-like point sets (arcs of circles, near-straight walks, random walks).
+TEST(FitArcs, ObbQuickTestsAgreeWithTheBox) {
+  std::srand(23);
+  std::vector<std::int64_t> hull;
+  int proven_at_least = 0, proven_below = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<std::int32_t> x, y;
+    const int n = 5 + trial % 60;
+    const int kind = trial % 3;
+    const double r = 5 + trial % 40, span = 0.3 + 0.01 * (trial % 250);
+    for (int i = 0; i < n; ++i) {
+      if (kind == 0) {  // an arc of a circle
+        const double t = span * i / n;
+        x.push_back(static_cast<std::int32_t>(std::lround(100 + r * std::cos(t))));
+        y.push_back(static_cast<std::int32_t>(std::lround(100 + r * std::sin(t))));
+      } else if (kind == 1) {  // a near-straight walk
+        x.push_back(i);
+        y.push_back(std::rand() % 4 == 0 ? 1 : 0);
+      } else {  // a random 8-connected walk
+        x.push_back(i == 0 ? 0 : x.back() + std::rand() % 3 - 1);
+        y.push_back(i == 0 ? 0 : y.back() + std::rand() % 3 - 1);
+      }
+    }
+    const ObbSides box = MinAreaObb(x.data(), y.data(), 0, n, &hull);
+    for (const double t : {1.0, 2.0, 3.0, 5.0}) {
+      if (ObbShortSideAtLeast(x.data(), y.data(), 0, n, t)) {
+        EXPECT_GE(box.short_side, t - 1e-9) << "trial " << trial << " t " << t;
+        ++proven_at_least;
+      }
+      if (ObbShortSideBelow(x.data(), y.data(), 0, n, t)) {
+        EXPECT_LT(box.short_side, t) << "trial " << trial << " t " << t;
+        ++proven_below;
+      }
+    }
+  }
+  EXPECT_GT(proven_at_least, 200);
+  EXPECT_GT(proven_below, 200);
+}
+
 }  // namespace
 }  // namespace ellipsekit
