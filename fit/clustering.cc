@@ -46,7 +46,8 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
          OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;
 }
 
-int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options) {
+int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options, const CandidateCheck* check) {
+  auto passes = [&](const Candidate& c) { return check == nullptr || check->Passes(c.ellipse); };
   // Best score first; equal scores ordered by the parameters, so the order is total and the
   // result never depends on the sort algorithm.
   std::vector<Candidate>& c = *candidates;
@@ -68,6 +69,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     std::size_t k = 0;
     while (k < kept && !SameEllipse(c[i].ellipse, c[k].ellipse, options)) ++k;
     if (k == kept) {
+      if (!passes(c[i])) continue;
       c[kept] = c[i];
       c[kept].has_rim = false;
       ++kept;
@@ -75,7 +77,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     }
     // The best-scoring outer rim of the reference within the margin (members arrive best first).
     if (!c[k].has_rim && c[i].ellipse.score >= c[k].ellipse.score - options.cluster_outer_margin &&
-        IsOuterRim(c[i].ellipse, c[k].ellipse)) {
+        IsOuterRim(c[i].ellipse, c[k].ellipse) && passes(c[i])) {
       c[k].has_rim = true;
       c[k].rim = c[i].ellipse;
     }

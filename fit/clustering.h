@@ -32,8 +32,20 @@ double FeatureDistance(const Ellipse& v, const Ellipse& w);
 // True when v and w are the same ellipse under options.cluster_rule.
 bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options);
 
+// A check a candidate must pass to found or represent a cluster (the edge coverage), asked lazily:
+// only of candidates that would, so duplicates of a cluster are never checked. The result is the
+// same as removing every failing candidate first.
+class CandidateCheck {
+ public:
+  virtual bool Passes(const Ellipse& e) const = 0;
+
+ protected:
+  ~CandidateCheck() = default;
+};
+
 // Sorts `candidates` by score (in place) and moves the cluster references to its front;
-// returns how many there are.
-int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options);
+// returns how many there are. With `check`, candidates failing it are left out.
+int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options,
+                      const CandidateCheck* check = nullptr);
 
 }  // namespace ellipsekit

@@ -106,6 +106,17 @@ Status ValidateImage(const ImageView& image, const Options& options) {
   return Status::Ok();
 }
 
+// Options::min_edge_coverage as a clustering check.
+class CoverageCheck final : public CandidateCheck {
+ public:
+  CoverageCheck(const EdgeMapView& view, double min_share) : view_(view), min_share_(min_share) {}
+  bool Passes(const Ellipse& e) const override { return EdgeCoverage(view_, e, min_share_) >= min_share_; }
+
+ private:
+  EdgeMapView view_;
+  double min_share_;
+};
+
 struct Detector::Impl {
   Options options;
   Status status;
@@ -257,13 +268,10 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const int num_candidates = static_cast<int>(candidates.size());
   const auto t4 = Clock::now();
 
-  // Edge coverage (our addition, fit/edge_coverage.h), clustering (sec. II-D-3), outer rims.
-  if (options.min_edge_coverage > 0) {
-    std::erase_if(candidates, [&](const Candidate& c) {
-      return EdgeCoverage(EdgeView(), c.ellipse, options.min_edge_coverage) < options.min_edge_coverage;
-    });
-  }
-  const int kept = ClusterCandidates(&candidates, options);
+  // Clustering (sec. II-D-3) of the candidates with edge coverage (our addition,
+  // fit/edge_coverage.h), then the outer rims.
+  const CoverageCheck coverage(EdgeView(), options.min_edge_coverage);
+  const int kept = ClusterCandidates(&candidates, options, options.min_edge_coverage > 0 ? &coverage : nullptr);
   CompleteOuterRims(kept, &gs);
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());

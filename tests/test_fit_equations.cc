@@ -336,6 +336,41 @@ TEST(FitClustering, KeepsTheBestOfNearDuplicatesAndFarApartOnes) {
   EXPECT_EQ(ClusterCandidates(&d, o), 1);
 }
 
+// A check (the detector's edge coverage) leaves failing candidates out exactly as if they had
+// been removed first: here the best duplicate fails, so the next best represents its cluster, and
+// a failing outer rim does not replace its lip.
+TEST(FitClustering, CheckLeavesFailingCandidatesOut) {
+  struct RejectScore final : CandidateCheck {
+    double bad;
+    bool Passes(const Ellipse& e) const override { return e.score != bad; }
+  };
+  Options o;
+  const std::vector<Candidate> all = [] {
+    std::vector<Candidate> c(4);
+    c[0].ellipse = Make(100, 100, 40, 30, 0.0, 1.5);
+    c[1].ellipse = Make(102, 101, 41, 30, 0.05, 1.8);
+    c[2].ellipse = Make(400, 300, 40, 30, 0.0, 1.2);
+    c[3].ellipse = Make(99, 98, 39, 31, -0.02, 1.6);
+    return c;
+  }();
+  RejectScore reject;
+  reject.bad = 1.8;
+  std::vector<Candidate> lazy = all, removed;
+  for (const Candidate& x : all) if (x.ellipse.score != reject.bad) removed.push_back(x);
+  const int kept_lazy = ClusterCandidates(&lazy, o, &reject);
+  ASSERT_EQ(kept_lazy, ClusterCandidates(&removed, o));
+  ASSERT_EQ(kept_lazy, 2);
+  for (int k = 0; k < kept_lazy; ++k) EXPECT_EQ(lazy[k].ellipse.score, removed[k].ellipse.score);
+  EXPECT_DOUBLE_EQ(lazy[0].ellipse.score, 1.6);
+
+  std::vector<Candidate> top(2);
+  top[0].ellipse = Make(200, 150, 40, 25, 0.3, 1.9);           // lip
+  top[1].ellipse = Make(200.5, 150.5, 46, 28.75, 0.32, 1.7);   // its outer rim
+  reject.bad = 1.7;
+  ASSERT_EQ(ClusterCandidates(&top, o, &reject), 1);
+  EXPECT_DOUBLE_EQ(top[0].ellipse.a, 40);
+}
+
 TEST(FitClustering, OuterRimRepresentsItsNestedLip) {
   // A can top: the lip (inner, best score) and the rim 1.15x larger, concentric, same shape.
   const Ellipse lip = Make(200, 150, 40, 25, 0.3, 1.9);
