@@ -84,7 +84,18 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
     const std::int32_t row = static_cast<std::int32_t>((y + 1) * pitch + 1);
     for (int x = 0; x < width; ++x) {
       const std::int32_t p = row + x;
-      if ((x & 7) == 0 && x + 8 <= width) {  // edge pixels are sparse: skip empty runs of 8
+      if ((x & 7) == 0 && x + 32 <= width) {  // edge pixels are sparse: skip empty runs of 32, 8
+        std::uint64_t w[4];
+        std::memcpy(w, &work[p], sizeof w);
+        if ((w[0] | w[1] | w[2] | w[3]) == 0) {
+          x += 31;
+          continue;
+        }
+        if (w[0] == 0) {
+          x += 7;
+          continue;
+        }
+      } else if ((x & 7) == 0 && x + 8 <= width) {
         std::uint64_t w;
         std::memcpy(&w, &work[p], sizeof w);
         if (w == 0) {
