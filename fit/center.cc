@@ -27,9 +27,9 @@ bool ChordCenterLine(const Eigen::Vector2d& p, const Eigen::Vector2d& np, const 
   const Eigen::Vector3d pole = TangentLine(p, np).cross(TangentLine(q, nq));
   const Eigen::Vector2d m = 0.5 * (p + q);
   const Eigen::Vector3d l = Eigen::Vector3d(m.x(), m.y(), 1.0).cross(pole);
-  const double norm = l.head<2>().norm();
-  if (!(norm > 1e-12)) return false;
-  *line = l / norm;
+  // Not normalised: IntersectLines is scale-invariant.
+  if (!(l.head<2>().squaredNorm() > 1e-24)) return false;
+  *line = l;
   return true;
 }
 
@@ -62,7 +62,7 @@ bool PairCenter(const Arc& a, const Arc& b, CenterMethod method, Eigen::Vector2d
   std::array<Chord, 6> chords;
   int n = 0;
   for (int i = 0; i < 4; ++i) {
-    for (int j = i + 1; j < 4; ++j) chords[n++] = {(e[i].p - e[j].p).squaredNorm(), i, j, 0, {}};
+    for (int j = i + 1; j < 4; ++j) chords[n++] = {(e[i].p - e[j].p).squaredNorm(), i, j, 0, Eigen::Vector3d::Zero()};
   }
   for (int i = 1; i < n; ++i) {
     for (int j = i; j > 0 && chords[j - 1].length2 < chords[j].length2; --j) std::swap(chords[j - 1], chords[j]);

@@ -24,12 +24,13 @@
 
 namespace ellipsekit {
 
-// The line through the chord (p, q)'s middle and its pole, homogeneous (a, b, c): a x + b y + c = 0.
-// np, nq are the unit edge normals at p and q. Returns false when it is undefined.
+// The line through the chord (p, q)'s middle and its pole, homogeneous (a, b, c): a x + b y + c = 0,
+// at no particular scale (IntersectLines does not need one). np, nq are the unit edge normals at p
+// and q. Returns false when it is undefined.
 bool ChordCenterLine(const Eigen::Vector2d& p, const Eigen::Vector2d& np, const Eigen::Vector2d& q,
                      const Eigen::Vector2d& nq, Eigen::Vector3d* line);
 
-// Where two homogeneous lines meet; false when they are (nearly) parallel.
+// Where two homogeneous lines (any scale) meet; false when they are (nearly) parallel.
 bool IntersectLines(const Eigen::Vector3d& l1, const Eigen::Vector3d& l2, Eigen::Vector2d* point);
 
 bool PairCenter(const Arc& a, const Arc& b, CenterMethod method, Eigen::Vector2d* center);
