@@ -66,26 +66,41 @@ bool Validate(const Curves& curves, const Arc* const* group, int count, bool ref
 }
 
 // Eq. 13 accepts only a + b < sum(w + h) / (count T_l). An ellipse that passes within 1 px of the
-// arcs' endpoints has a >= D / 2 - 1, D the largest distance between two endpoints, so a group
-// whose endpoints span D >= 2 (bound + 1) fails eq. 13 whatever its fit. A refitted ellipse that
-// passes psi > 0.9 has its arcs' points within T_d of it, so this rejects before the refit what K
-// would reject after it: 62 % of the triplets of prasad 027_0003, identical ellipses on every
-// shared image and the 200 scenes. (Not on the paper's path, whose eqs. 8-12 estimate need not
-// pass near the endpoints.)
+// arcs' endpoints contains their convex hull shrunk by 1 px, so 2 a >= D - 2 (D: the endpoints'
+// largest distance) and 2 b >= W - 2 (W: the hull's smallest width, bounded below by the smallest
+// altitude of any triangle of endpoints): a group with (D + W) / 2 - 2 >= the bound fails eq. 13
+// whatever its fit. A refitted ellipse that passes psi > 0.9 has its arcs' points within T_d of it,
+// so this rejects before the refit what K would reject after it: 76 % of the triplets of prasad
+// 027_0003, identical ellipses on every shared image and the 200 scenes. (Not on the paper's path,
+// whose eqs. 8-12 estimate need not pass near the endpoints.)
 bool SpanFailsLengthRatio(const Arc* const* group, int count, double length_ratio) {
-  if (!(length_ratio > 0)) return false;
+  if (!(length_ratio > 0) || count > 3) return false;
   double extent = 0;
-  for (int i = 0; i < count; ++i) extent += group[i]->width + group[i]->height;
-  const double reach = 2 * (extent / (count * length_ratio) + 1);  // 2 (bound + 1)
-  const double reach2 = reach * reach;
+  Eigen::Vector2d p[6];
+  int n = 0;
   for (int i = 0; i < count; ++i) {
-    for (int j = i; j < count; ++j) {
-      for (const Eigen::Vector2d* p : {&group[i]->p0, &group[i]->p1}) {
-        if ((*p - group[j]->p0).squaredNorm() >= reach2 || (*p - group[j]->p1).squaredNorm() >= reach2) return true;
+    extent += group[i]->width + group[i]->height;
+    p[n++] = group[i]->p0;
+    p[n++] = group[i]->p1;
+  }
+  const double bound = extent / (count * length_ratio);
+  double d2 = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) d2 = std::max(d2, (p[i] - p[j]).squaredNorm());
+  const double d = std::sqrt(d2);
+  if (d / 2 - 1 >= bound) return true;  // b >= 0 suffices
+  double w2 = 0;  // the largest smallest-altitude^2 over the triangles
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      for (int k = j + 1; k < n; ++k) {
+        const Eigen::Vector2d u = p[j] - p[i], v = p[k] - p[i], t = p[k] - p[j];
+        const double twice_area = u.x() * v.y() - u.y() * v.x();
+        const double longest2 = std::max({u.squaredNorm(), v.squaredNorm(), t.squaredNorm()});
+        if (longest2 > 0) w2 = std::max(w2, twice_area * twice_area / longest2);
       }
     }
   }
-  return false;
+  return (d + std::sqrt(w2)) / 2 - 2 >= bound;
 }
 
 }  // namespace
