@@ -35,6 +35,7 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share) {
       // The outward normal at t: (b cos t, a sin t) in the ellipse frame.
       const double nu = e.b * ct, nv = e.a * st;
       const double nx = nu * c - nv * s, ny = nu * s + nv * c, n2 = nx * nx + ny * ny;
+      if (!(px > -2 && px < in.width + 1 && py > -2 && py < in.height + 1)) continue;  // no pixel in reach
       const int x0 = static_cast<int>(std::lround(px)), y0 = static_cast<int>(std::lround(py));
       for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
         if (y < 0 || y >= in.height) continue;

@@ -27,11 +27,11 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
   const double big_a = k_max * inner.a, big_b = k_max * inner.b;
   const double hx = std::sqrt(big_a * big_a * c * c + big_b * big_b * s * s);
   const double hy = std::sqrt(big_a * big_a * s * s + big_b * big_b * c * c);
-  const int x0 = static_cast<int>(std::max(0.0, std::floor(inner.cx - hx)));
-  const int x1 = static_cast<int>(std::min(in.width - 1.0, std::ceil(inner.cx + hx)));
-  const int y0 = static_cast<int>(std::max(0.0, std::floor(inner.cy - hy)));
-  const int y1 = static_cast<int>(std::min(in.height - 1.0, std::ceil(inner.cy + hy)));
-  if (x0 > x1 || y0 > y1) return false;
+  // Clipped in doubles before any conversion, so a far-off or huge ellipse cannot overflow an int.
+  const double fx0 = std::max(0.0, std::floor(inner.cx - hx)), fx1 = std::min(in.width - 1.0, std::ceil(inner.cx + hx));
+  const double fy0 = std::max(0.0, std::floor(inner.cy - hy)), fy1 = std::min(in.height - 1.0, std::ceil(inner.cy + hy));
+  if (!(fx0 <= fx1) || !(fy0 <= fy1)) return false;
+  const int x0 = static_cast<int>(fx0), x1 = static_cast<int>(fx1), y0 = static_cast<int>(fy0), y1 = static_cast<int>(fy1);
 
   // Radius bins of ~0.5 px on the minor axis; a band of +-1 px is `half` bins either side.
   const double bin = std::max(0.5 / inner.b, (k_max - k_min) / kMaxBins);
@@ -93,12 +93,16 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     const double dy = y - inner.cy;
     double out_lo, out_hi, in_lo, in_hi;
     if (!span(dy, k_max2, &out_lo, &out_hi)) continue;
-    const int xa = std::max(x0, static_cast<int>(std::floor(inner.cx + out_lo)) - 1);
-    const int xb = std::min(x1, static_cast<int>(std::ceil(inner.cx + out_hi)) + 1);
+    // Clamped to [x0 - 1, x1 + 1] in doubles before conversion (NaN, from an ellipse so huge that
+    // its quadratic form underflows, goes to the low end).
+    auto to_x = [&](double v) { return v >= x0 - 1.0 ? static_cast<int>(std::min(v, x1 + 1.0)) : x0 - 1; };
+    const int xa = std::max(x0, to_x(std::floor(inner.cx + out_lo)) - 1);
+    const int xb = std::min(x1, to_x(std::ceil(inner.cx + out_hi)) + 1);
+    if (xa > xb) continue;
     int skip_a = xb + 1, skip_b = xb;  // [skip_a, skip_b]: inside k_min * inner, not scanned
     if (span(dy, k_min2, &in_lo, &in_hi)) {
-      skip_a = std::max(xa, static_cast<int>(std::ceil(inner.cx + in_lo)) + 1);
-      skip_b = std::min(xb, static_cast<int>(std::floor(inner.cx + in_hi)) - 1);
+      skip_a = std::max(xa, to_x(std::ceil(inner.cx + in_lo)) + 1);
+      skip_b = std::min(xb, to_x(std::floor(inner.cx + in_hi)) - 1);
     }
     if (skip_a > skip_b) {
       scan(y, xa, xb);

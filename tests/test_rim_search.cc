@@ -114,6 +114,18 @@ TEST(RimSearch, EllipsesAtOrBeyondTheBorderAreSafe) {
   e.cx = 5;  // partly outside: the box is clipped
   ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned);
   EXPECT_LE(scanned, static_cast<long>(kW) * kH);
+  for (const double far : {1e12, -1e12, 1e300}) {  // far off or huge: no int overflow, nothing found
+    e = Inner();
+    e.cx = far;
+    EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned));
+    EXPECT_EQ(ellipsekit::EdgeCoverage(f.Input(), e), 0.0);
+    e = Inner();
+    e.a = std::abs(far);
+    e.b = std::abs(far) / 2;
+    ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned);
+    EXPECT_LE(scanned, static_cast<long>(kW) * kH);
+    EXPECT_LE(ellipsekit::EdgeCoverage(f.Input(), e), 1.0);
+  }
   e = Inner();
   e.b = 1;  // too small to have a rim band outside its own edge
   EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), e, 0.6, &rim, &scanned));
