@@ -1,6 +1,7 @@
 #include "fit/curve_tracing.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 namespace ellipsekit {
@@ -37,12 +38,10 @@ std::int32_t PackXY(int x, int y) { return (y << 16) | x; }
 // Follows the chain from `start` (already taken) and appends the pixels it reaches, packed. At a
 // junction it takes the neighbour that turns least from the last step (ties: the order above),
 // so a rim keeps going where texture edges touch it instead of wandering off into them.
-// `work` has a one-pixel border of zeros (row pitch `pitch`), so neighbours need no bounds tests;
-// indices are into `work`.
-void Follow(std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t start, int x, int y, std::uint8_t cls,
+// `work` has a one-pixel border of zeros, so neighbours need no bounds tests; indices are into
+// `work`, offset[k] the index step of move k.
+void Follow(std::uint8_t* work, const std::ptrdiff_t* offset, std::int32_t start, int x, int y, std::uint8_t cls,
             std::vector<std::int32_t>* chain) {
-  std::ptrdiff_t offset[8];
-  for (int k = 0; k < 8; ++k) offset[k] = kStepY[k] * pitch + kStepX[k];
   std::int32_t cur = start;
   int best = -1;
   for (int k = 0; k < 8; ++k) {  // the first move: the first neighbour in the fixed order
@@ -62,6 +61,14 @@ void Follow(std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t start, int x,
   }
 }
 
+// True when the 8 neighbours of index p are all zero (p itself already cleared): one branch
+// instead of two Follow calls of 8 tests each.
+bool IsolatedPixel(const std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t p) {
+  const std::uint8_t* above = work + p - pitch - 1;
+  const std::uint8_t* below = work + p + pitch - 1;
+  return (above[0] | above[1] | above[2] | work[p - 1] | work[p + 1] | below[0] | below[1] | below[2]) == 0;
+}
+
 }  // namespace
 
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
@@ -70,6 +77,8 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
   out->clear();
   int edge_pixels = 0;
   const std::ptrdiff_t pitch = width + 2;
+  std::ptrdiff_t offset[8];
+  for (int k = 0; k < 8; ++k) offset[k] = kStepY[k] * pitch + kStepX[k];
   std::vector<std::uint8_t>& work = scratch->work;
   work.resize(static_cast<std::size_t>(pitch) * (height + 2));
   std::fill(work.begin(), work.begin() + pitch, 0);  // the zero border, then each row between zeros
@@ -83,33 +92,38 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
   for (int y = 0; y < height; ++y) {
     const std::int32_t row = static_cast<std::int32_t>((y + 1) * pitch + 1);
     for (int x = 0; x < width; ++x) {
-      const std::int32_t p = row + x;
-      if ((x & 7) == 0 && x + 32 <= width) {  // edge pixels are sparse: skip empty runs of 32, 8
+      // Edge pixels are sparse: skip empty runs of 32 bytes, then to the first non-zero byte of the
+      // next 8 (work is only ever cleared, so what lies behind x needs no second look).
+      if (x + 32 <= width) {
         std::uint64_t w[4];
-        std::memcpy(w, &work[p], sizeof w);
+        std::memcpy(w, &work[row + x], sizeof w);
         if ((w[0] | w[1] | w[2] | w[3]) == 0) {
           x += 31;
           continue;
         }
-        if (w[0] == 0) {
-          x += 7;
-          continue;
-        }
-      } else if ((x & 7) == 0 && x + 8 <= width) {
+      }
+      if (x + 8 <= width) {
         std::uint64_t w;
-        std::memcpy(&w, &work[p], sizeof w);
+        std::memcpy(&w, &work[row + x], sizeof w);
         if (w == 0) {
           x += 7;
           continue;
         }
+        if constexpr (std::endian::native == std::endian::little) x += std::countr_zero(w) / 8;
       }
+      const std::int32_t p = row + x;
       const std::uint8_t cls = work[p];
       if (cls == 0) continue;
       work[p] = 0;
+      // Isolated pixels (much of what Canny leaves in texture): the 3 x 3 block around is empty.
+      if (min_points > 1 && IsolatedPixel(work.data(), pitch, p)) {
+        ++edge_pixels;
+        continue;
+      }
       scratch->forward.clear();
       scratch->backward.clear();
-      Follow(work.data(), pitch, p, x, y, cls, &scratch->forward);
-      Follow(work.data(), pitch, p, x, y, cls, &scratch->backward);
+      Follow(work.data(), offset, p, x, y, cls, &scratch->forward);
+      Follow(work.data(), offset, p, x, y, cls, &scratch->backward);
       const std::size_t n = scratch->forward.size() + scratch->backward.size() + 1;
       edge_pixels += static_cast<int>(n);
       if (n < static_cast<std::size_t>(min_points)) continue;
