@@ -30,13 +30,9 @@ Arc ArcFromStats(const ArcStats& s, const Curves& curves) {
 
 bool PassesObbRule(const Curves& curves, int begin, int end, const Options& options,
                    std::vector<std::int64_t>* hull) {
-  if (options.obb_rule == ObbRule::kMinSide && ObbShortSideAtLeast(curves.x.data(), curves.y.data(), begin, end,
-                                                                   options.obb_threshold)) {
-    return true;  // proven without the box
-  }
-  if (options.obb_rule == ObbRule::kMinSide && ObbShortSideBelow(curves.x.data(), curves.y.data(), begin, end,
-                                                                 options.obb_threshold)) {
-    return false;  // proven without the box
+  if (options.obb_rule == ObbRule::kMinSide) {  // decided without the box where a quick test proves it
+    if (ObbShortSideAtLeast(curves.x.data(), curves.y.data(), begin, end, options.obb_threshold)) return true;
+    if (ObbShortSideBelow(curves.x.data(), curves.y.data(), begin, end, options.obb_threshold)) return false;
   }
   const ObbSides obb = MinAreaObb(curves.x.data(), curves.y.data(), begin, end, hull);
   if (options.obb_rule == ObbRule::kMinSide) return obb.short_side >= options.obb_threshold;

@@ -1,8 +1,8 @@
 #include "fit/curve_tracing.h"
 
 #include <algorithm>
-#include <bit>
-#include <cstring>
+
+#include "fit/edge_map_view.h"
 
 namespace ellipsekit {
 
@@ -91,29 +91,10 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
   std::fill(work.end() - pitch, work.end(), 0);
   for (int y = 0; y < height; ++y) {
     const std::int32_t row = static_cast<std::int32_t>((y + 1) * pitch + 1);
-    for (int x = 0; x < width; ++x) {
-      // Edge pixels are sparse: skip empty runs of 32 bytes, then to the first non-zero byte of the
-      // next 8 (work is only ever cleared, so what lies behind x needs no second look).
-      if (x + 32 <= width) {
-        std::uint64_t w[4];
-        std::memcpy(w, &work[row + x], sizeof w);
-        if ((w[0] | w[1] | w[2] | w[3]) == 0) {
-          x += 31;
-          continue;
-        }
-      }
-      if (x + 8 <= width) {
-        std::uint64_t w;
-        std::memcpy(&w, &work[row + x], sizeof w);
-        if (w == 0) {
-          x += 7;
-          continue;
-        }
-        if constexpr (std::endian::native == std::endian::little) x += std::countr_zero(w) / 8;
-      }
+    // work is only ever cleared, so what lies behind x needs no second look.
+    for (int x = FirstNonZeroByte(&work[row], 0, width); x < width; x = FirstNonZeroByte(&work[row], x + 1, width)) {
       const std::int32_t p = row + x;
       const std::uint8_t cls = work[p];
-      if (cls == 0) continue;
       work[p] = 0;
       // Isolated pixels (much of what Canny leaves in texture): the 3 x 3 block around is empty.
       if (min_points > 1 && IsolatedPixel(work.data(), pitch, p)) {

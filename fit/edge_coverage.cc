@@ -10,7 +10,6 @@ namespace ellipsekit {
 namespace {
 constexpr int kSectors = 64;
 constexpr int kSamplesPerSector = 4;
-constexpr double kMinCos2 = 0.8;
 }  // namespace
 
 double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share) {
@@ -32,18 +31,16 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share) {
     for (int k = 0; k < kSamplesPerSector && !hit; ++k) {
       const auto [ct, st] = kUnit[sector * kSamplesPerSector + k];
       const double px = e.cx + e.a * ct * c - e.b * st * s, py = e.cy + e.a * ct * s + e.b * st * c;
+      if (!(px > -2 && px < in.width + 1 && py > -2 && py < in.height + 1)) continue;  // no pixel in reach
       // The outward normal at t: (b cos t, a sin t) in the ellipse frame.
       const double nu = e.b * ct, nv = e.a * st;
-      const double nx = nu * c - nv * s, ny = nu * s + nv * c, n2 = nx * nx + ny * ny;
-      if (!(px > -2 && px < in.width + 1 && py > -2 && py < in.height + 1)) continue;  // no pixel in reach
+      const double nx = nu * c - nv * s, ny = nu * s + nv * c;
       const int x0 = static_cast<int>(std::lround(px)), y0 = static_cast<int>(std::lround(py));
       for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
         if (y < 0 || y >= in.height) continue;
         for (int x = x0 - 1; x <= x0 + 1 && !hit; ++x) {
           if (x < 0 || x >= in.width || in.edge_map[y * in.stride + x] == 0) continue;
-          const double gx = in.dx[y * in.grad_stride + x], gy = in.dy[y * in.grad_stride + x];
-          const double dot = gx * nx + gy * ny;
-          hit = dot * dot >= kMinCos2 * (gx * gx + gy * gy) * n2;
+          hit = GradientAlongNormal(in.dx[y * in.grad_stride + x], in.dy[y * in.grad_stride + x], nx, ny);
         }
       }
     }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstring>
 #include <numbers>
 
 namespace ellipsekit {
@@ -12,7 +11,6 @@ namespace {
 
 constexpr int kMaxBins = 128;
 constexpr int kSectors = 64;  // one bit each in a std::uint64_t
-constexpr double kMinCos2 = 0.8;  // gradient within ~26.6 degrees of the normal: cos^2 >= 0.8
 
 }  // namespace
 
@@ -58,16 +56,7 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     const std::uint8_t* edges = in.edge_map + y * in.stride;
     const std::int16_t* gxs = in.dx + y * in.grad_stride;
     const std::int16_t* gys = in.dy + y * in.grad_stride;
-    for (int x = xa; x <= xb; ++x) {
-      if (x + 8 <= xb + 1) {  // edge pixels are sparse: skip empty runs of 8
-        std::uint64_t word;
-        std::memcpy(&word, edges + x, sizeof word);
-        if (word == 0) {
-          x += 7;
-          continue;
-        }
-      }
-      if (edges[x] == 0) continue;
+    for (int x = FirstNonZeroByte(edges, xa, xb + 1); x <= xb; x = FirstNonZeroByte(edges, x + 1, xb + 1)) {
       const double ddx = x - inner.cx, ddy = y - inner.cy;
       const double u = (ddx * c + ddy * s) * ia, v = (ddy * c - ddx * s) * ib;  // unit-circle frame
       const double r2 = u * u + v * v;
@@ -75,9 +64,7 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
       // The normal of every k * inner at this pixel: (u / a, v / b) in the ellipse frame.
       const double nu = u * ia, nv = v * ib;
       const double nx = nu * c - nv * s, ny = nu * s + nv * c;
-      const double gx = gxs[x], gy = gys[x];
-      const double dot = gx * nx + gy * ny;
-      if (dot * dot < kMinCos2 * (gx * gx + gy * gy) * (nx * nx + ny * ny)) continue;
+      if (!GradientAlongNormal(gxs[x], gys[x], nx, ny)) continue;
       const double r = std::sqrt(r2);
       const int b = static_cast<int>((r - k_min) / bin);
       if (b >= bins) continue;

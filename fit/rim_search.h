@@ -8,9 +8,6 @@
 // gradient is normal to it, over enough of its angular extent.
 #pragma once
 
-#include <cstddef>
-#include <cstdint>
-
 #include "ellipsekit/types.h"
 #include "fit/edge_map_view.h"
 
@@ -18,7 +15,6 @@ namespace ellipsekit {
 
 inline constexpr double kRimSearchMinScale = 1.04;
 inline constexpr double kRimSearchMaxScale = 1.45;
-
 
 // Searches k * inner for k in [max(kRimSearchMinScale, 1 + 1.5 / inner.b), kRimSearchMaxScale]:
 // an edge pixel supports scale r (its normalised radius in inner's frame) when its gradient is
