@@ -50,7 +50,7 @@
 #include "kernels/polyline.h"
 #include "runtime/backend.h"
 #ifdef ELLIPSEKIT_HAVE_SIMD
-#include <hwy/detect_targets.h>
+#include <hwy/targets.h>  // HWY_TARGETS (the compiled-in targets), hwy::TargetName
 
 #include "cpu/simd_kernels.h"
 #endif
@@ -165,26 +165,43 @@ void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_
   st.SetBytesProcessed(st.iterations() * bytes_per_iter);
 }
 
-// The Highway table (dispatching to whatever target is forced) or the scalar references; nullptr,
-// with the benchmark skipped, when SIMD is asked for but not built.
-const ek::KernelTable* CpuKernels(benchmark::State& st, bool simd) {
+// Which CPU kernels a benchmark runs: the scalar references, the best Highway target here, or one
+// Highway target by its HWY_* bit.
+constexpr std::int64_t kScalarKernels = 0;
+constexpr std::int64_t kBestSimdTarget = -1;
+
 #ifdef ELLIPSEKIT_HAVE_SIMD
-  (void)st;
-  return simd ? &ek::SimdKernels() : &ek::ScalarKernels();
-#else
-  if (simd) { st.SkipWithError("SIMD backend not built"); return nullptr; }
-  return &ek::ScalarKernels();
+const ek::simd::TargetKernels* SimdTarget(std::int64_t target) {
+  const auto& all = ek::simd::Targets();
+  if (target == kBestSimdTarget) return all.empty() ? nullptr : &all.front();
+  for (const auto& k : all) {
+    if (k.target == target) return &k;
+  }
+  return nullptr;
+}
 #endif
+
+// The table for `target`; nullptr, with the benchmark skipped, when SIMD is not built or the CPU
+// lacks that target.
+const ek::KernelTable* CpuKernels(benchmark::State& st, std::int64_t target) {
+  if (target == kScalarKernels) return &ek::ScalarKernels();
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  if (const ek::simd::TargetKernels* k = SimdTarget(target)) return &k->table;
+  st.SkipWithError(("Highway target " + std::string(hwy::TargetName(target)) + " not supported by this CPU").c_str());
+#else
+  st.SkipWithError("SIMD backend not built");
+#endif
+  return nullptr;
 }
 
-// ---- kernels: one function per row of kernels/kernels.inc (stage Edges). `simd` selects the
-// Highway entry points (dispatching to whatever target is forced), else the scalar references.
+// ---- kernels: one function per row of kernels/kernels.inc (stage Edges), from the table of
+// `target` (kScalarKernels or a Highway target).
 // Bytes: what the kernel reads plus what it writes, per frame.
-void RunKernel(benchmark::State& st, const std::string& kernel, bool simd, Size s) {
+void RunKernel(benchmark::State& st, const std::string& kernel, std::int64_t target, Size s) {
   Prepared& p = PreparedFor(s);
   const int w = p.w, h = p.h;
   const std::int64_t n = static_cast<std::int64_t>(w) * h;
-  const ek::KernelTable* table = CpuKernels(st, simd);
+  const ek::KernelTable* table = CpuKernels(st, target);
   if (table == nullptr) return;
   const ek::KernelTable& t = *table;
   std::vector<std::uint8_t> out_u8(n);
@@ -243,21 +260,6 @@ void RunKernel(benchmark::State& st, const std::string& kernel, bool simd, Size 
   }
   SetRates(st, n, bytes);
 }
-
-#ifdef ELLIPSEKIT_HAVE_SIMD
-// Runs `run` with Highway forced to one target; skipped when the CPU lacks it.
-template <class Run>
-void OnSimdTarget(benchmark::State& st, std::int64_t target, Run&& run) {
-  const auto avail = ek::simd::AvailableTargets();
-  if (std::find(avail.begin(), avail.end(), target) == avail.end()) {
-    st.SkipWithError(("Highway target " + ek::simd::TargetName(target) + " not supported by this CPU").c_str());
-    return;
-  }
-  ek::simd::ForceTarget(target);
-  run();
-  ek::simd::ForceTarget(0);
-}
-#endif
 
 // ---- arc-stage kernels: the curves of one frame as the detector traces them (scalar edge stage,
 // TraceCurves with T_n; the detector's OBB filter, which needs Eigen, is left out, so a few more
@@ -319,10 +321,10 @@ bool SameArcStats(const std::vector<ek::ArcStats>& a, const std::vector<ek::ArcS
 
 // One arc kernel on one frame's curves; outputs are checked against the scalar reference after
 // the timed loop. Output buffers are reused across iterations, as in the detector.
-void RunArcKernel(benchmark::State& st, const std::string& kernel, bool simd, const std::string& input) {
+void RunArcKernel(benchmark::State& st, const std::string& kernel, std::int64_t target, const std::string& input) {
   const ArcInputs* in = ArcInputsFor(input);
   if (in == nullptr) { st.SkipWithError(("no frame for input " + input).c_str()); return; }
-  const ek::KernelTable* table = CpuKernels(st, simd);
+  const ek::KernelTable* table = CpuKernels(st, target);
   if (table == nullptr) return;
   const ek::KernelTable& t = *table;
   const ek::Options o;
@@ -340,7 +342,7 @@ void RunArcKernel(benchmark::State& st, const std::string& kernel, bool simd, co
     // The Highway version directly: the SIMD table keeps the (faster) reference for arc_split.
     auto* arc_split = t.arc_split;
 #ifdef ELLIPSEKIT_HAVE_SIMD
-    if (simd) arc_split = ek::simd::ArcSplit;
+    if (target != kScalarKernels) arc_split = SimdTarget(target)->arc_split;
 #endif
     ek::Splits out;
     const std::int64_t tan_q16 = ek::SplitTanQ16(o.split_angle_deg);
@@ -382,12 +384,9 @@ void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   k.edge_sign(b->nms.data(), w, b->dx.data(), b->dy.data(), w, w, h, b->edges.data(), w);
 }
 
-void BM_EdgeStageCpu(benchmark::State& st, bool simd, Size s) {
+void BM_EdgeStageCpu(benchmark::State& st, std::int64_t target, Size s) {
   Prepared& p = PreparedFor(s);
-#ifdef ELLIPSEKIT_HAVE_SIMD
-  ek::simd::ForceTarget(0);
-#endif
-  const ek::KernelTable* table = CpuKernels(st, simd);
+  const ek::KernelTable* table = CpuKernels(st, target);
   if (table == nullptr) return;
   const ek::KernelTable& k = *table;
   Prepared buf;
@@ -547,9 +546,6 @@ ek::Detector* ReadyDetector(benchmark::State& st, ek::Backend backend) {
     st.SkipWithError((std::string(ek::BackendName(backend)) + " unavailable: " + det->status().message()).c_str());
     return nullptr;
   }
-#ifdef ELLIPSEKIT_HAVE_SIMD
-  ek::simd::ForceTarget(0);
-#endif
   return det;
 }
 
@@ -643,23 +639,24 @@ std::vector<std::pair<std::string, cv::Mat>>& EndToEndImages(const std::string& 
 }
 
 // Registers kernel/<kernel>/scalar<tail> and the SIMD variants: kernel/<kernel>/simd:<target><tail>
-// per Highway target in `targets`, or kernel/<kernel>/simd<tail> (which skips itself) when SIMD is
-// not built. run(st, simd) runs the kernel.
+// per Highway target in `targets` (each skips itself where the CPU lacks it), or
+// kernel/<kernel>/simd<tail> (which skips itself) when SIMD is not built. run(st, target) runs
+// the kernel.
 void RegisterKernel(const std::string& kernel, const std::string& tail, const std::vector<std::int64_t>& targets,
-                    const std::function<void(benchmark::State&, bool)>& run) {
+                    const std::function<void(benchmark::State&, std::int64_t)>& run) {
   const std::string name = "kernel/" + kernel;
   benchmark::RegisterBenchmark((name + "/scalar" + tail).c_str(),
-                               [run](benchmark::State& st) { run(st, false); })->UseRealTime();
+                               [run](benchmark::State& st) { run(st, kScalarKernels); })->UseRealTime();
 #ifdef ELLIPSEKIT_HAVE_SIMD
   for (std::int64_t t : targets) {
-    benchmark::RegisterBenchmark((name + "/simd:" + ek::simd::TargetName(t) + tail).c_str(),
-                                 [run, t](benchmark::State& st) { OnSimdTarget(st, t, [&] { run(st, true); }); })
+    benchmark::RegisterBenchmark((name + "/simd:" + hwy::TargetName(t) + tail).c_str(),
+                                 [run, t](benchmark::State& st) { run(st, t); })
         ->UseRealTime();
   }
 #else
   (void)targets;
   benchmark::RegisterBenchmark((name + "/simd" + tail).c_str(),
-                               [run](benchmark::State& st) { run(st, true); })->UseRealTime();
+                               [run](benchmark::State& st) { run(st, kBestSimdTarget); })->UseRealTime();
 #endif
 }
 
@@ -685,7 +682,7 @@ void Register() {
     for (Size s : kSizes) {
       std::string tail = "/";  // (appends: GCC 12 warns falsely on "literal" + string)
       tail += SizeName(s);
-      RegisterKernel(k, tail, targets, [k, s](benchmark::State& st, bool simd) { RunKernel(st, k, simd, s); });
+      RegisterKernel(k, tail, targets, [k, s](benchmark::State& st, std::int64_t t) { RunKernel(st, k, t, s); });
     }
   }
 
@@ -701,7 +698,7 @@ void Register() {
     for (const char* input : {"scene", "prasad"}) {
       const std::string in(input);
       RegisterKernel(k, "/" + in, targets,
-                     [k, in](benchmark::State& st, bool simd) { RunArcKernel(st, k, simd, in); });
+                     [k, in](benchmark::State& st, std::int64_t t) { RunArcKernel(st, k, t, in); });
     }
   }
 
@@ -716,9 +713,9 @@ void Register() {
   for (Size s : kSizes) {
     const std::string tail = "/" + SizeName(s);
     benchmark::RegisterBenchmark(("edge_stage/scalar" + tail).c_str(),
-                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, false, s); })->UseRealTime();
+                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, kScalarKernels, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/simd" + tail).c_str(),
-                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, true, s); })->UseRealTime();
+                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, kBestSimdTarget, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/vulkan" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("opencv/sobel" + tail).c_str(),

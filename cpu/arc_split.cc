@@ -24,8 +24,8 @@
 // Speed: on the detector's curves (about 6 polyline vertices per curve, so a third of the lanes
 // straddle curves, and most of the time goes to gathering vertex coordinates and emitting splits)
 // this is slower than the scalar reference on the development machine (AMD EPYC, AVX3: about
-// 1.1-1.2x the reference's time, bench kernel/arc_split/*), so SimdKernels() keeps the reference
-// for arc_split (runtime/backend.cc); this version is conformance-tested and benchmarked directly.
+// 1.1-1.2x the reference's time, bench kernel/arc_split/*), so the SIMD kernel tables keep the
+// reference (cpu/targets.cc); this version is conformance-tested and benchmarked directly.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cpu/arc_split.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -244,15 +244,3 @@ void ArcSplitImpl(const Curves& curves, const Polylines& polylines, std::int64_t
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(ArcSplitImpl);
-
-void ArcSplit(const Curves& curves, const Polylines& polylines, std::int64_t tan_q16, Splits* out) {
-  HWY_DYNAMIC_DISPATCH(ArcSplitImpl)(curves, polylines, tan_q16, out);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

@@ -150,15 +150,3 @@ void ArcStatsFromSplitsImpl(const Curves& curves, const Splits& splits, int min_
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(ArcStatsFromSplitsImpl);
-
-void ArcStatsFromSplits(const Curves& curves, const Splits& splits, int min_points, std::vector<ArcStats>* out) {
-  HWY_DYNAMIC_DISPATCH(ArcStatsFromSplitsImpl)(curves, splits, min_points, out);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

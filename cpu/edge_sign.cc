@@ -54,18 +54,3 @@ void EdgeSignImpl(const std::uint8_t* edges, std::ptrdiff_t edge_stride, const s
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(EdgeSignImpl);
-
-void EdgeSign(const std::uint8_t* edges, std::ptrdiff_t edge_stride, const std::int16_t* dx,
-              const std::int16_t* dy, std::ptrdiff_t stride, int width, int height,
-              std::uint8_t* out, std::ptrdiff_t out_stride) {
-  HWY_DYNAMIC_DISPATCH(EdgeSignImpl)(edges, edge_stride, dx, dy, stride, width, height, out,
-                                     out_stride);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

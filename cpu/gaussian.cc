@@ -70,16 +70,3 @@ void GaussianImpl(const std::uint8_t* src, std::ptrdiff_t src_stride, int width,
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(GaussianImpl);
-
-void Gaussian(const std::uint8_t* src, std::ptrdiff_t src_stride, int width, int height,
-              std::uint8_t* dst, std::ptrdiff_t dst_stride) {
-  HWY_DYNAMIC_DISPATCH(GaussianImpl)(src, src_stride, width, height, dst, dst_stride);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

@@ -126,17 +126,3 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(NmsImpl);
-
-void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
-         int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
-         std::ptrdiff_t out_stride) {
-  HWY_DYNAMIC_DISPATCH(NmsImpl)(dx, dy, mag, width, height, stride, low, high, out, out_stride);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

@@ -109,15 +109,3 @@ void PolylineImpl(const Curves& curves, std::int32_t tol_q16, Polylines* out, st
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(PolylineImpl);
-
-void Polyline(const Curves& curves, std::int32_t tol_q16, Polylines* out, std::vector<std::int32_t>* stack) {
-  HWY_DYNAMIC_DISPATCH(PolylineImpl)(curves, tol_q16, out, stack);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

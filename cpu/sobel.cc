@@ -78,16 +78,3 @@ void SobelImpl(const std::uint8_t* src, std::ptrdiff_t src_stride, int width, in
 }  // namespace HWY_NAMESPACE
 }  // namespace ellipsekit
 HWY_AFTER_NAMESPACE();
-
-#if HWY_ONCE
-namespace ellipsekit::simd {
-
-HWY_EXPORT(SobelImpl);
-
-void Sobel(const std::uint8_t* src, std::ptrdiff_t src_stride, int width, int height,
-           std::int16_t* dx, std::int16_t* dy, std::uint16_t* mag, std::ptrdiff_t stride) {
-  HWY_DYNAMIC_DISPATCH(SobelImpl)(src, src_stride, width, height, dx, dy, mag, stride);
-}
-
-}  // namespace ellipsekit::simd
-#endif  // HWY_ONCE

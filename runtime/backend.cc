@@ -34,72 +34,51 @@ const KernelTable& ScalarKernels() {
   return table;
 }
 
-#ifdef ELLIPSEKIT_HAVE_SIMD
-namespace {
-// Why ELLIPSEKIT_HWY_TARGET could not be honoured (empty when it was, or was not set).
-std::string& SimdTargetProblem() {
-  static std::string problem;
-  return problem;
-}
-}  // namespace
-
-// Highway kernels for every stage kernel but hysteresis (a sequential flood fill) and arc_split
-// (its Highway version is slower, see below), which keep the scalar references. ELLIPSEKIT_HWY_TARGET is read once, when the table is first resolved.
-const KernelTable& SimdKernels() {
-  static const KernelTable table = [] {
-    simd::ForceTargetFromEnv(&SimdTargetProblem());
-    KernelTable t = ScalarKernels();
-    t.backend = Backend::kSimd;
-    t.gaussian = simd::Gaussian;
-    t.sobel = simd::Sobel;
-    t.magnitude_histogram = simd::MagnitudeHistogram;
-    t.nms = simd::Nms;
-    t.edge_sign = simd::EdgeSign;
-    t.polyline = simd::Polyline;
-    // simd::ArcSplit is exact but measured slower than the reference on typical curves (see
-    // cpu/arc_split.cc), so the table keeps the faster exact one.
-    t.arc_split = scalar::ArcSplit;
-    t.arc_stats = simd::ArcStatsFromSplits;
-    return t;
-  }();
-  return table;
-}
-#endif
-
-Status ResolveKernels(Backend requested, const KernelTable** table, std::string* why) {
+Status ResolveKernels(const Options& options, const KernelTable** table, std::string* why) {
   why->clear();
-  switch (requested) {
+  const KernelTable* simd_table = nullptr;  // the SIMD table, when this build and CPU have one
+#ifdef ELLIPSEKIT_HAVE_SIMD
+  std::string problem;
+  const simd::TargetKernels* target = simd::FindTarget(options.simd_target, &problem);
+  // A misspelt Options::simd_target is an error whatever the backend, so it never goes unnoticed;
+  // a bad ELLIPSEKIT_HWY_TARGET only where SIMD was asked for. kAuto and kVulkan (whose arc stage
+  // falls back to this table) then take the best target and say why.
+  if (target == nullptr && !simd::Targets().empty()) {
+    if (!options.simd_target.empty() || options.backend == Backend::kSimd) return {StatusCode::kInvalidArgument, problem};
+    target = &simd::Targets().front();
+    if (options.backend != Backend::kScalar) *why = problem + "; using " + target->name;
+  }
+  if (target != nullptr) simd_table = &target->table;
+#else
+  if (!options.simd_target.empty()) {
+    return {StatusCode::kUnavailable, "simd_target " + options.simd_target + ": the Highway kernels are not built in this version"};
+  }
+#endif
+  switch (options.backend) {
     case Backend::kScalar:
       *table = &ScalarKernels();
       return Status::Ok();
-#ifdef ELLIPSEKIT_HAVE_SIMD
     case Backend::kAuto:
-      *table = &SimdKernels();
-      *why = SimdTargetProblem();  // empty unless ELLIPSEKIT_HWY_TARGET was ignored
-      return Status::Ok();
-    case Backend::kSimd:
-      *table = &SimdKernels();
-      if (!SimdTargetProblem().empty()) return {StatusCode::kInvalidArgument, SimdTargetProblem()};
-      return Status::Ok();
-#else
-    case Backend::kAuto:
+      if (simd_table != nullptr) {
+        *table = simd_table;
+        return Status::Ok();
+      }
       *table = &ScalarKernels();
-      *why = "SIMD and Vulkan backends are not built in this version; using scalar";
+      *why = "no SIMD kernels in this build or for this CPU; using scalar";
       return Status::Ok();
     case Backend::kSimd:
-      return {StatusCode::kUnavailable, "backend 'simd' is not available: the Highway kernels are not built in this version"};
-#endif
+      if (simd_table == nullptr) {
+        return {StatusCode::kUnavailable, "backend 'simd' is not available: no Highway kernels in this build or for this CPU"};
+      }
+      *table = simd_table;
+      return Status::Ok();
     case Backend::kVulkan:
 #ifdef ELLIPSEKIT_HAVE_VULKAN
       // The Detector runs the edge stage (runtime/vulkan_edge_stage.h) and the arc stage
       // (runtime/vulkan_arc_stage.h: polyline, arc_split, arc_stats) on the device. This table
       // serves the arc stage only where the device cannot: no shaderInt64, or a frame whose curves
       // exceed its storage-buffer range (identical results: the arc kernels are integer-exact).
-#ifdef ELLIPSEKIT_HAVE_SIMD
-      *table = &SimdKernels();
-#else
-      *table = &ScalarKernels();
-#endif
+      *table = simd_table != nullptr ? simd_table : &ScalarKernels();
       return Status::Ok();
 #else
       return {StatusCode::kUnavailable, "backend 'vulkan' is not available: this build has no Vulkan support"};

@@ -18,6 +18,7 @@ namespace ellipsekit {
 
 struct KernelTable {
   Backend backend = Backend::kScalar;
+  const char* simd_target = "";  // the Highway target of a kSimd table (cpu/simd_kernels.h), else ""
   void (*gaussian)(const std::uint8_t*, std::ptrdiff_t, int, int, std::uint8_t*, std::ptrdiff_t) = nullptr;
   void (*sobel)(const std::uint8_t*, std::ptrdiff_t, int, int, std::int16_t*, std::int16_t*,
                 std::uint16_t*, std::ptrdiff_t) = nullptr;
@@ -34,7 +35,8 @@ struct KernelTable {
 
 const KernelTable& ScalarKernels();
 
-// Resolves `requested` to a table; `why` explains a fallback taken by kAuto (empty otherwise).
-Status ResolveKernels(Backend requested, const KernelTable** table, std::string* why);
+// Resolves options.backend (and, for the SIMD table, options.simd_target) to a table; `why`
+// explains a fallback taken by kAuto (empty otherwise).
+Status ResolveKernels(const Options& options, const KernelTable** table, std::string* why);
 
 }  // namespace ellipsekit

@@ -121,6 +121,7 @@ struct Detector::Impl {
   Options options;
   Status status;
   const KernelTable* kernels = nullptr;
+  std::string backend_note;  // why the backend or target differs from the one asked for
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   std::unique_ptr<VulkanEdgeStage> vulkan;  // set when the edge stage runs on a Vulkan device
   // Set when the arc stage runs on the device too; null (device without shaderInt64) -> the CPU
@@ -279,6 +280,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const auto t5 = Clock::now();
 
   r->backend = ran;
+  r->simd_target = ran == Backend::kSimd ? k.simd_target : "";
   r->caps_hit = gs.caps_hit;
   r->num_edge_pixels = edge_pixels;
   r->num_curves = curves.size();
@@ -299,8 +301,7 @@ Detector::Detector(const Options& options) : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
   impl_->status = ValidateOptions(options);
   if (impl_->status.ok()) {
-    std::string why;
-    impl_->status = ResolveKernels(options.backend, &impl_->kernels, &why);
+    impl_->status = ResolveKernels(options, &impl_->kernels, &impl_->backend_note);
   }
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   if (impl_->status.ok() && options.backend == Backend::kVulkan) {
@@ -323,6 +324,11 @@ Status MovedFrom() { return {StatusCode::kInvalidArgument, "this Detector was mo
 }  // namespace
 
 Status Detector::status() const { return impl_ ? impl_->status : MovedFrom(); }
+
+const std::string& Detector::backend_note() const {
+  static const std::string kNone;
+  return impl_ ? impl_->backend_note : kNone;
+}
 
 const Options& Detector::options() const {
   static const Options kDefaults;

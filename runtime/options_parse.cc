@@ -77,6 +77,10 @@ Status SetOption(const std::string& assignment, Options* o) {
   }
   if (name == "gaussian_blur") return ParseBool(value, &o->gaussian_blur) ? Status::Ok() : bad("true or false");
   if (name == "refine_fit") return ParseBool(value, &o->refine_fit) ? Status::Ok() : bad("true or false");
+  if (name == "simd_target") {
+    o->simd_target = value;  // checked against the available targets when a Detector is created
+    return Status::Ok();
+  }
   if (name == "backend") return ParseBackend(value.c_str(), &o->backend) ? Status::Ok() : bad("auto, scalar, simd or vulkan");
   if (name == "center_method") {
     if (value == "longest_chords") { o->center_method = CenterMethod::kLongestChords; return Status::Ok(); }

@@ -226,20 +226,14 @@ inline void PrintCoverage(const char* test) {
   std::size_t points = 0;
   for (const CurveSet& s : ArcCurveSets()) points += s.curves.x.size();
   std::string names;
-  for (std::int64_t t : simd::AvailableTargets()) names += (names.empty() ? "" : ",") + simd::TargetName(t);
+  for (const simd::TargetKernels& t : simd::Targets()) names += std::string(names.empty() ? "" : ",") + t.name;
   std::printf("%s: %zu curve sets, %zu points, targets %s\n", test, ArcCurveSets().size(), points, names.c_str());
 }
 
-// Runs fn once per Highway target compiled in and supported here, with that target forced.
-inline void ForEachSimdTarget(const std::function<void(const std::string& target)>& fn) {
-  TargetReset reset;
-  const std::vector<std::int64_t> targets = simd::AvailableTargets();
-  ASSERT_FALSE(targets.empty());
-  for (std::int64_t t : targets) {
-    simd::ForceTarget(t);
-    ASSERT_EQ(simd::CurrentTarget(), t) << "could not force " << simd::TargetName(t);
-    fn(simd::TargetName(t));
-  }
+// Runs fn once per Highway target compiled in and supported here, with that target's kernels.
+inline void ForEachSimdTarget(const std::function<void(const simd::TargetKernels& target)>& fn) {
+  ASSERT_FALSE(simd::Targets().empty());
+  for (const simd::TargetKernels& t : simd::Targets()) fn(t);
 }
 
 // "" when equal; otherwise the sizes or the first differing element.

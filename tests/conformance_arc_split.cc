@@ -61,11 +61,11 @@ TEST(ConformanceArcSplit, AllCurveSetsAllTargets) {
         RunArcSplit(scalar::ArcSplit, set.curves, pl, tan_q16, &want);
         ASSERT_EQ(want.offset.size(), static_cast<std::size_t>(set.curves.size()) + 1);
         splits_seen += static_cast<int>(want.index.size());
-        ForEachSimdTarget([&](const std::string& target) {
+        ForEachSimdTarget([&](const simd::TargetKernels& target) {
           Splits got;
-          RunArcSplit(simd::ArcSplit, set.curves, pl, tan_q16, &got);
+          RunArcSplit(target.arc_split, set.curves, pl, tan_q16, &got);
           const std::string where =
-              set.name + ", " + input_name + ", angle " + std::to_string(angle) + " [" + target + "]";
+              set.name + ", " + input_name + ", angle " + std::to_string(angle) + " [" + target.name + "]";
           EXPECT_EQ(FirstDifference(want.index, got.index), "") << where << ": index";
           EXPECT_EQ(FirstDifference(want.offset, got.offset), "") << where << ": offset";
         });

@@ -62,11 +62,11 @@ TEST(ConformanceArcStats, AllCurveSetsAllTargets) {
         std::vector<ArcStats> want;
         RunArcStats(ScalarKernels(), set.curves, splits, min_points, &want);
         arcs_seen += want.size() - 2;
-        ForEachSimdTarget([&](const std::string& target) {
+        ForEachSimdTarget([&](const simd::TargetKernels& target) {
           std::vector<ArcStats> got;
-          RunArcStats(SimdKernels(), set.curves, splits, min_points, &got);
+          RunArcStats(target.table, set.curves, splits, min_points, &got);
           EXPECT_EQ(FirstDifference(want, got, SameArc), "")
-              << set.name << ", " << input_name << ", min_points " << min_points << " [" << target << "]";
+              << set.name << ", " << input_name << ", min_points " << min_points << " [" << target.name << "]";
         });
       }
     }

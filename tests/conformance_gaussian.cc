@@ -7,10 +7,17 @@
 namespace ellipsekit::conformance {
 namespace {
 
-TEST(ConformanceGaussian, TargetsCanBeForced) {
-  const auto targets = simd::AvailableTargets();
+TEST(ConformanceGaussian, OneTablePerTarget) {
+  const auto& targets = simd::Targets();
   std::string names;
-  for (auto t : targets) names += simd::TargetName(t) + " ";
+  for (const auto& t : targets) {
+    names += std::string(t.name) + " ";
+    // Each table is its own target's, and complete.
+    EXPECT_STREQ(t.table.simd_target, t.name);
+    EXPECT_EQ(t.table.backend, Backend::kSimd);
+    EXPECT_NE(t.arc_split, nullptr);
+    EXPECT_NE(t.table.sobel, nullptr);
+  }
   std::printf("Highway targets under test: %s\n", names.c_str());
   // At least one vector target next to the scalar fallback on any x86-64 / Arm machine.
   EXPECT_GE(targets.size(), 2u);

@@ -27,10 +27,10 @@ TEST(ConformancePolyline, AllCurveSetsAllTargets) {
       Polylines want;
       RunPolyline(ScalarKernels(), set.curves, tol, &want);
       ASSERT_EQ(want.offset.size(), static_cast<std::size_t>(set.curves.size()) + 1);
-      ForEachSimdTarget([&](const std::string& target) {
+      ForEachSimdTarget([&](const simd::TargetKernels& target) {
         Polylines got;
-        RunPolyline(SimdKernels(), set.curves, tol, &got);
-        const std::string where = set.name + " tol_q16=" + std::to_string(tol) + " [" + target + "]";
+        RunPolyline(target.table, set.curves, tol, &got);
+        const std::string where = set.name + " tol_q16=" + std::to_string(tol) + " [" + target.name + "]";
         EXPECT_EQ(FirstDifference(want.vertex, got.vertex), "") << where << ": vertex";
         EXPECT_EQ(FirstDifference(want.offset, got.offset), "") << where << ": offset";
       });
@@ -48,13 +48,13 @@ TEST(ConformancePolyline, FirstOfTiedFarthestPoints) {
     c.clear();
     AddPlateau(1000, 1000, 10, flat, &rng, &c);
     // tol 16 (1 px): the plateau (10 px off the chord) splits at its first point, index 10.
-    for (const KernelTable* k : {&ScalarKernels(), &SimdKernels()}) {
-      ForEachSimdTarget([&](const std::string& target) {
-        Polylines got;
-        RunPolyline(*k, c, 16, &got);
-        ASSERT_GE(got.vertex.size(), 3u) << target;
-        EXPECT_EQ(got.vertex[1], 10) << "flat=" << flat << " [" << target << "]";
-      });
+    std::vector<std::pair<std::string, const KernelTable*>> tables = {{"scalar", &ScalarKernels()}};
+    for (const simd::TargetKernels& t : simd::Targets()) tables.emplace_back(t.name, &t.table);
+    for (const auto& [name, k] : tables) {
+      Polylines got;
+      RunPolyline(*k, c, 16, &got);
+      ASSERT_GE(got.vertex.size(), 3u) << name;
+      EXPECT_EQ(got.vertex[1], 10) << "flat=" << flat << " [" << name << "]";
     }
   }
 }

@@ -1,7 +1,7 @@
 // The one conformance helper every tests/conformance_<kernel>.cc uses (ncnn's testutil shape):
 // a case is a lambda that runs a kernel from a KernelTable into sentinel-filled output planes;
 // ExpectAllTargetsMatchScalar runs it once through the scalar reference and once per Highway
-// target compiled in and supported here (forcing each), and compares every byte of every plane,
+// target compiled in and supported here (each target's own table), and compares every byte of every plane,
 // padding included, so writes outside the region are caught too.
 // Images: ConformanceImages() is the shared input set (tiny sizes, widths 1..70, odd widths,
 // padded strides, 640x480 / 1280x720 / 1920x1080 random, flat, noise, every dataset image).
@@ -55,11 +55,6 @@ Plane MakePlane(std::string name, int width, int height, std::ptrdiff_t stride) 
 
 using KernelRun = std::function<std::vector<Plane>(const KernelTable&)>;
 
-// Restores Highway's own target choice when a test ends, even on a failed assertion.
-struct TargetReset {
-  ~TargetReset() { simd::ForceTarget(0); }
-};
-
 inline std::string DescribeMismatch(const Plane& want, const Plane& got, std::size_t byte) {
   const std::size_t elem = byte / want.elem_size;
   const std::ptrdiff_t y = static_cast<std::ptrdiff_t>(elem) / want.stride;
@@ -86,18 +81,14 @@ inline void ExpectAllTargetsMatchScalar(const std::string& what, const KernelRun
       }
     }
   }
-  TargetReset reset;
-  const std::vector<std::int64_t> targets = simd::AvailableTargets();
-  ASSERT_FALSE(targets.empty());
-  for (std::int64_t t : targets) {
-    simd::ForceTarget(t);
-    ASSERT_EQ(simd::CurrentTarget(), t) << "could not force " << simd::TargetName(t);
-    const std::vector<Plane> got = run(SimdKernels());
+  ASSERT_FALSE(simd::Targets().empty());
+  for (const simd::TargetKernels& t : simd::Targets()) {
+    const std::vector<Plane> got = run(t.table);
     ASSERT_EQ(got.size(), want.size());
     for (std::size_t i = 0; i < want.size(); ++i) {
       const auto mismatch = std::mismatch(want[i].bytes.begin(), want[i].bytes.end(), got[i].bytes.begin());
       if (mismatch.first != want[i].bytes.end()) {
-        ADD_FAILURE() << what << " [" << simd::TargetName(t) << "]: "
+        ADD_FAILURE() << what << " [" << t.name << "]: "
                       << DescribeMismatch(want[i], got[i], mismatch.first - want[i].bytes.begin());
       }
     }

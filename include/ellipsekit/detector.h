@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "ellipsekit/options.h"
@@ -48,6 +49,7 @@ struct DetectionResult {
   std::vector<Ellipse> ellipses;  // best score first
   StageTimings timings;
   Backend backend = Backend::kScalar;  // the backend that ran
+  const char* simd_target = "";        // the Highway target that ran ("AVX2", ...) when backend is kSimd
   unsigned caps_hit = kCapNone;        // CapFlags
   int num_edge_pixels = 0;
   int num_curves = 0;
@@ -70,6 +72,9 @@ class Detector {
   // A moved-from Detector answers every call with an error status (and default options).
   Status status() const;
   const Options& options() const;
+  // Why the backend or SIMD target that runs differs from the one asked for (kAuto without SIMD
+  // kernels, an ELLIPSEKIT_HWY_TARGET that names no available target); empty when it does not.
+  const std::string& backend_note() const;
 
   Status detect(const ImageView& image, DetectionResult* result);
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 namespace ellipsekit {
 
@@ -50,6 +51,14 @@ enum class ClusterRule {
 
 struct Options {
   Backend backend = Backend::kAuto;
+  // The Highway target the SIMD kernels run on, by Highway's name ("AVX3", "AVX2", "SSE4",
+  // "NEON", "EMU128", ...; case-insensitive; `ellipsekit conform --targets all` lists them).
+  // Empty: the ELLIPSEKIT_HWY_TARGET environment variable if set, else the best target the CPU
+  // has. Resolved once, when the Detector is created; a name that is not compiled in or not
+  // supported here makes the Detector's status an error that lists the available ones. Applies
+  // wherever the SIMD kernels run (kAuto, kSimd, and kVulkan's CPU fallback); every target gives
+  // bit-identical results (DESIGN.md "Backends agree"), so this is for tests and benchmarks.
+  std::string simd_target;
 
   // ---- edges (sec. II-A): Canny with automatic thresholds
   bool gaussian_blur = true;        // 3x3 binomial pre-filter (integer, exact)
@@ -135,6 +144,7 @@ namespace ellipsekit {
 
 // Sets one field from "name=value", with the field names of Options above (e.g.
 // "split_angle_deg=30", "inlier_rule=pixel", "center_method=arc_chords", "refine_fit=false").
+// simd_target takes a Highway target name (checked when a Detector is created).
 // Enumerations take: backend auto|scalar|simd|vulkan; center_method longest_chords|arc_chords;
 // obb_rule min_side|side_ratio; inlier_rule algebraic|pixel;
 // cluster_rule feature_distance|relative. Range checks are ValidateOptions'.

@@ -359,6 +359,7 @@ bool CompareDetector(Detector* detector, const ImageView& img, const Reference& 
 // A backend ready to be compared: its CPU table, its Detector, and the Vulkan edge stage.
 struct BackendRun {
   Which which;
+  std::string label;  // "scalar", "simd", "simd:<target>" or "vulkan", as the report prints it
   const KernelTable* table = nullptr;
   std::unique_ptr<Detector> detector;
 #ifdef ELLIPSEKIT_HAVE_VULKAN
@@ -376,11 +377,17 @@ Backend ToBackend(Which w) {
   return Backend::kScalar;
 }
 
-// Sets up `w`; on failure returns false with the reason in *why.
-bool Prepare(Which w, const Options& base, BackendRun* c, std::string* why) {
+// Sets up `w` (the SIMD kernels on `simd_target`, "" for the default one); on failure returns
+// false with the reason in *why.
+bool Prepare(Which w, const Options& base, const std::string& simd_target, BackendRun* c, std::string* why) {
   c->which = w;
+  c->label = WhichName(w);
+  if (!simd_target.empty()) c->label += ":" + simd_target;
+  Options o = base;
+  o.backend = ToBackend(w);
+  o.simd_target = simd_target;
   std::string fallback;
-  const Status st = ResolveKernels(ToBackend(w), &c->table, &fallback);
+  const Status st = ResolveKernels(o, &c->table, &fallback);
   if (!st.ok()) {
     *why = st.message();
     return false;
@@ -398,8 +405,6 @@ bool Prepare(Which w, const Options& base, BackendRun* c, std::string* why) {
                    as.message().c_str());
   }
 #endif
-  Options o = base;
-  o.backend = ToBackend(w);
   c->detector = std::make_unique<Detector>(o);
   if (!c->detector->status().ok()) {
     *why = c->detector->status().message();
@@ -427,28 +432,29 @@ int RunConform(const std::vector<std::string>& argv) {
     return kExitFailure;
   }
 
+  // One run per backend; with --targets all, one SIMD run per Highway target.
   std::vector<BackendRun> runs;
   for (Which w : args.backends) {
-    BackendRun c;
-    std::string why;
-    if (!Prepare(w, options, &c, &why)) {
-      if (args.backends_given) {
-        std::fprintf(stderr, "ellipsekit conform: backend '%s' is unavailable: %s\n", WhichName(w), why.c_str());
-        failed = true;
-      }
-      continue;
-    }
-    runs.push_back(std::move(c));
-  }
-
-  // The simd runs: (label, Highway target to force or 0 for its own choice).
-  std::vector<std::pair<std::string, std::int64_t>> simd_runs;
+    std::vector<std::string> targets = {""};
 #ifdef ELLIPSEKIT_HAVE_SIMD
-  if (args.all_targets) {
-    for (std::int64_t t : simd::AvailableTargets()) simd_runs.emplace_back("simd:" + simd::TargetName(t), t);
-  }
+    if (w == Which::kSimd && args.all_targets) {
+      targets.clear();
+      for (const simd::TargetKernels& t : simd::Targets()) targets.push_back(t.name);
+    }
 #endif
-  if (simd_runs.empty()) simd_runs.emplace_back("simd", 0);
+    for (const std::string& target : targets) {
+      BackendRun c;
+      std::string why;
+      if (!Prepare(w, options, target, &c, &why)) {
+        if (args.backends_given) {
+          std::fprintf(stderr, "ellipsekit conform: backend '%s' is unavailable: %s\n", c.label.c_str(), why.c_str());
+          failed = true;
+        }
+        continue;
+      }
+      runs.push_back(std::move(c));
+    }
+  }
 
   Reporter rep;
   for (const std::string& path : args.images) {
@@ -489,35 +495,10 @@ int RunConform(const std::vector<std::string>& argv) {
     for (BackendRun& c : runs) {
       switch (c.which) {
         case Which::kScalar:
-          CompareTable(*c.table, img, options, ref, path, "scalar", &rep);
-          CompareArcs(*c.table, options, ref, path, "scalar", &rep);
-          failed |= !CompareDetector(c.detector.get(), img, ref, path, "scalar", &rep);
-          break;
         case Which::kSimd:
-          for (const auto& [label, target] : simd_runs) {
-#ifdef ELLIPSEKIT_HAVE_SIMD
-            if (target != 0) {
-              simd::ForceTarget(target);
-              if (simd::CurrentTarget() != target) {
-                std::fprintf(stderr, "ellipsekit conform: could not force Highway target %s\n",
-                             simd::TargetName(target).c_str());
-                failed = true;
-                continue;
-              }
-            }
-#endif
-            CompareTable(*c.table, img, options, ref, path, label, &rep);
-            CompareArcs(*c.table, options, ref, path, label, &rep);
-            failed |= !CompareDetector(c.detector.get(), img, ref, path, label, &rep);
-          }
-#ifdef ELLIPSEKIT_HAVE_SIMD
-          if (args.all_targets) {
-            // Back to Highway's own choice (or the one ELLIPSEKIT_HWY_TARGET names).
-            simd::ForceTarget(0);
-            std::string ignored;
-            simd::ForceTargetFromEnv(&ignored);
-          }
-#endif
+          CompareTable(*c.table, img, options, ref, path, c.label, &rep);
+          CompareArcs(*c.table, options, ref, path, c.label, &rep);
+          failed |= !CompareDetector(c.detector.get(), img, ref, path, c.label, &rep);
           break;
         case Which::kVulkan: {
 #ifdef ELLIPSEKIT_HAVE_VULKAN

@@ -78,7 +78,9 @@ StageTimings MedianTimings(const std::vector<StageTimings>& runs) {
 
 std::string ReportJson(const ImageReport& r) {
   std::string s = "  {\"path\": " + JsonString(r.path) + ", \"median_ms\": " + JsonNumber(r.median_ms, 4) +
-                  ", \"backend\": " + JsonString(BackendName(r.result.backend)) + ",\n   \"ellipses\": [";
+                  ", \"backend\": " + JsonString(BackendName(r.result.backend)) +
+                  (r.result.simd_target[0] != '\0' ? ", \"simd_target\": " + JsonString(r.result.simd_target) : "") +
+                  ",\n   \"ellipses\": [";
   for (std::size_t i = 0; i < r.result.ellipses.size(); ++i) {
     const Ellipse& e = r.result.ellipses[i];
     s += (i ? ",\n     " : "\n     ");
@@ -161,6 +163,7 @@ int RunDetect(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "ellipsekit detect: %s\n", detector.status().message().c_str());
     return kExitFailure;
   }
+  if (!detector.backend_note().empty()) std::fprintf(stderr, "ellipsekit detect: note: %s\n", detector.backend_note().c_str());
 
   bool failed = false;
   bool first_json = true;

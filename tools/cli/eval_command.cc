@@ -116,6 +116,7 @@ int RunEval(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "ellipsekit eval: %s\n", detector.status().message().c_str());
     return kExitFailure;
   }
+  if (!detector.backend_note().empty()) std::fprintf(stderr, "ellipsekit eval: note: %s\n", detector.backend_note().c_str());
 
   const bool progress = ::isatty(STDOUT_FILENO) == 1;
   bool failed = false;
