@@ -422,15 +422,22 @@ void BM_EdgeStageVulkan(benchmark::State& st, Size s) {
   const ek::Options o;
   ek::Status rs = vk->Run(View(p.frame), o, dx.data(), dy.data(), edges.data());
   if (!rs.ok()) { st.SkipWithError(("Vulkan Run failed: " + rs.message()).c_str()); return; }
-  double device_ms = 0;
+  using Stage = ek::VulkanEdgeStage;
+  double device_ms = 0, step_ms[Stage::kNumSteps] = {};
   for (auto _ : st) {
     rs = vk->Run(View(p.frame), o, dx.data(), dy.data(), edges.data());
     if (!rs.ok()) { st.SkipWithError(("Vulkan Run failed: " + rs.message()).c_str()); break; }
     device_ms += vk->last_device_ms();
+    for (int s = 0; s < Stage::kNumSteps; ++s) step_ms[s] += vk->last_step_device_ms(static_cast<Stage::Step>(s));
   }
   if (st.error_occurred()) return;
   if (edges != p.edges) { st.SkipWithError("edge map differs from the scalar reference"); return; }
   st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
+  // Device time per shader step (timestamps), e.g. "sobel_ms".
+  for (int s = 0; s < Stage::kNumSteps; ++s) {
+    st.counters[std::string(Stage::StepName(static_cast<Stage::Step>(s))) + "_ms"] =
+        benchmark::Counter(step_ms[s], benchmark::Counter::kAvgIterations);
+  }
   st.SetLabel(vk->device_name());
   SetRates(st, static_cast<std::int64_t>(n), 2LL * static_cast<std::int64_t>(n));
 #else
@@ -725,6 +732,14 @@ void Register() {
     benchmark::RegisterBenchmark(("opencv/blur_canny" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_OpenCvCanny(st, true, s); })->UseRealTime();
   }
+
+  // A 64x48 frame: almost no pixels, so what is left is each backend's fixed cost per frame (on
+  // Vulkan: a dispatch and barrier per step, the submit and the fence wait).
+  static constexpr Size kTiny{64, 48};
+  benchmark::RegisterBenchmark(("edge_stage/simd/" + SizeName(kTiny)).c_str(),
+                               [](benchmark::State& st) { BM_EdgeStageCpu(st, kBestSimdTarget, kTiny); })->UseRealTime();
+  benchmark::RegisterBenchmark(("edge_stage/vulkan/" + SizeName(kTiny)).c_str(),
+                               [](benchmark::State& st) { BM_EdgeStageVulkan(st, kTiny); })->UseRealTime();
 
   // End-to-end images: every prasad image, and kNumScenes generated scenes.
   auto& prasad = EndToEndImages("prasad");

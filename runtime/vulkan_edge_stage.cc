@@ -116,7 +116,22 @@ void VulkanEdgeStage::Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t g
 }
 
 // flags[0] = 1, flags[1..] = 0; kRoundsPerSubmit hysteresis rounds; edge_sign; host visibility.
-void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb) {
+static_assert(VulkanEdgeStage::kNumSteps + 1 <= VulkanProgram::kMaxTimestamps, "one query per step end, plus the start");
+
+const char* VulkanEdgeStage::StepName(Step s) {
+  switch (s) {
+    case kStepGaussian: return "gaussian";
+    case kStepSobel: return "sobel";
+    case kStepThresholds: return "thresholds";
+    case kStepNms: return "nms";
+    case kStepHysteresis: return "hysteresis";
+    case kStepEdgeSign: return "edge_sign";
+    case kNumSteps: break;
+  }
+  return "?";
+}
+
+void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb, bool timed) {
   const VulkanFunctions& vk = ctx_->vk();
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -131,9 +146,11 @@ void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb) {
     Dispatch(cb, kHysteresis, CeilDiv(mask_words_, kHysteresisGroup), 1, push);
     program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   }
+  if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, program_.query_pool(), kStepHysteresis + 1);
   push[2] = 0;
   Dispatch1D(cb, kEdgeSign, CeilDiv(static_cast<std::uint64_t>(chunks_) * height_, kGroup), push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, program_.query_pool(), kStepEdgeSign + 1);
 }
 
 Status VulkanEdgeStage::Submit(VkCommandBuffer cb) { return program_.SubmitAndWait(cb); }
@@ -176,8 +193,11 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   constexpr VkAccessFlags kRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
   const VkQueryPool query_pool = program_.query_pool();
   const bool timed = query_pool != VK_NULL_HANDLE;
-  double device_ms = 0;
-  auto read_time = [&]() { program_.AddDeviceMs(&device_ms); };
+  // Query 0 before the first step, query s + 1 after step s (VulkanEdgeStage::Step).
+  double step_ms[kNumSteps] = {};
+  auto mark_end_of = [&](VkCommandBuffer c, Step s) {
+    if (timed) vk.vkCmdWriteTimestamp(c, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool, s + 1);
+  };
 
   VkCommandBufferBeginInfo begin{};
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
@@ -186,7 +206,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   vk.vkResetCommandBuffer(cb, 0);
   vk.vkBeginCommandBuffer(cb, &begin);
   if (timed) {
-    vk.vkCmdResetQueryPool(cb, query_pool, 0, 2);
+    vk.vkCmdResetQueryPool(cb, query_pool, 0, kNumSteps + 1);
     vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool, 0);
   }
   // The host wrote the frame before the submit (visible to it); the previous frame's work is done
@@ -199,8 +219,10 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
     Dispatch1D(cb, kGaussian, chunk_groups, frame_push);
     program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   }
+  mark_end_of(cb, kStepGaussian);
   Dispatch1D(cb, options.gaussian_blur ? kSobel : kSobelRaw, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
+  mark_end_of(cb, kStepSobel);
   const std::uint32_t mask_push[6] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4};
   Dispatch1D(cb, kHistogram, CeilDiv(static_cast<std::uint64_t>(plane_row_vec4) * HistogramRows(h), kHistVec4PerGroup),
              mask_push);
@@ -210,15 +232,16 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
                                         static_cast<std::uint32_t>(options.canny_min_high), 0};
   Dispatch(cb, kSelect, 1, 1, select_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
+  mark_end_of(cb, kStepThresholds);
   Dispatch1D(cb, kNms, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  RecordHysteresisAndOutput(cb);
-  if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool, 1);
+  mark_end_of(cb, kStepNms);
+  RecordHysteresisAndOutput(cb, timed);
   VkResult r = vk.vkEndCommandBuffer(cb);
   if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
   st = Submit(cb);
   if (!st.ok()) return st;
-  if (timed) read_time();
+  program_.AddIntervalsMs(0, kNumSteps, step_ms);
   // More hysteresis rounds while the last one changed something (bounded by the contract).
   const auto* flags = static_cast<const volatile std::uint32_t*>(buffers_[kFlags].mapped);
   int rounds = kRoundsPerSubmit;
@@ -231,21 +254,24 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
     cb = program_.command_buffer(1);
     vk.vkResetCommandBuffer(cb, 0);
     vk.vkBeginCommandBuffer(cb, &begin);
-    if (timed) {
-      vk.vkCmdResetQueryPool(cb, query_pool, 0, 2);
-      vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool, 0);
+    if (timed) {  // queries kStepHysteresis .. kStepEdgeSign + 1: start, hysteresis, edge_sign
+      vk.vkCmdResetQueryPool(cb, query_pool, kStepHysteresis, 3);
+      vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool, kStepHysteresis);
     }
-    RecordHysteresisAndOutput(cb);
-    if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool, 1);
+    RecordHysteresisAndOutput(cb, timed);
     r = vk.vkEndCommandBuffer(cb);
     if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
     st = Submit(cb);
     if (!st.ok()) return st;
-    if (timed) read_time();
+    program_.AddIntervalsMs(kStepHysteresis, 2, step_ms + kStepHysteresis);
     rounds += kRoundsPerSubmit;
   }
   last_rounds_ = rounds;
-  last_device_ms_ = timed ? device_ms : -1;
+  last_device_ms_ = timed ? 0 : -1;
+  for (int s = 0; s < kNumSteps; ++s) {
+    last_step_ms_[s] = timed ? step_ms[s] : -1;
+    if (timed) last_device_ms_ += step_ms[s];
+  }
 
   // Device rows: dx / dy 32 * mask_words_ elements apart, the edge map 16 * chunks_ bytes; the
   // caller's rows are `w` apart.

@@ -52,9 +52,17 @@ class VulkanEdgeStage {
   Status Run(const ImageView& image, const Options& options, std::int16_t* dx, std::int16_t* dy,
              std::uint8_t* edge_map);
 
+  // The steps the device time is split into (timestamps after each step's barrier); thresholds is
+  // the histogram and the threshold selection, hysteresis every round of every submit.
+  enum Step { kStepGaussian, kStepSobel, kStepThresholds, kStepNms, kStepHysteresis, kStepEdgeSign, kNumSteps };
+  static const char* StepName(Step s);
+
   // Device time of the last Run (GPU timestamps, all submits summed; the host's row copies into
   // and out of the host-visible buffers are not in it); -1 when the queue has no timestamps.
   double last_device_ms() const { return last_device_ms_; }
+  // The same split by step (sums to last_device_ms() but for the fill commands); -1 without
+  // timestamps.
+  double last_step_device_ms(Step s) const { return last_step_ms_[s]; }
   // Hysteresis dispatches the last Run recorded (multiples of kRoundsPerSubmit).
   int last_hysteresis_rounds() const { return last_rounds_; }
   const std::string& device_name() const { return ctx_->device_name(); }
@@ -72,7 +80,8 @@ class VulkanEdgeStage {
   void ReleaseFrameBuffers();
   void Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t gx, std::uint32_t gy, const std::uint32_t* push);
   void Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t groups, const std::uint32_t* push);
-  void RecordHysteresisAndOutput(VkCommandBuffer cb);
+  // Timestamps (when timed) go to queries kStepHysteresis + 1 and kStepEdgeSign + 1.
+  void RecordHysteresisAndOutput(VkCommandBuffer cb, bool timed);
   Status Submit(VkCommandBuffer cb);
 
   std::shared_ptr<VulkanContext> ctx_;
@@ -89,6 +98,7 @@ class VulkanEdgeStage {
   std::uint32_t mask_words_ = 0;       // 32-pixel hysteresis mask words per row: ceil(width / 32)
   static constexpr std::uint32_t kPushWords = 6;
   double last_device_ms_ = -1;
+  double last_step_ms_[kNumSteps] = {-1, -1, -1, -1, -1, -1};
   int last_rounds_ = 0;
 };
 

@@ -104,7 +104,7 @@ Status VulkanProgram::Create(VulkanContext* ctx, int num_bindings, std::uint32_t
     VkQueryPoolCreateInfo qpci{};
     qpci.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
     qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    qpci.queryCount = 2;
+    qpci.queryCount = kMaxTimestamps;
     r = vk.vkCreateQueryPool(dev, &qpci, nullptr, &query_pool_);
     if (r != VK_SUCCESS) return VulkanFailure("vkCreateQueryPool", r);
   }
@@ -173,14 +173,17 @@ Status VulkanProgram::SubmitAndWait(VkCommandBuffer cb) {
   return Status::Ok();
 }
 
-void VulkanProgram::AddDeviceMs(double* device_ms) {
-  if (query_pool_ == VK_NULL_HANDLE) return;
-  std::uint64_t ts[2] = {0, 0};
-  if (ctx_->vk().vkGetQueryPoolResults(ctx_->device(), query_pool_, 0, 2, sizeof(ts), ts, sizeof(std::uint64_t),
-                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
-    const std::uint64_t mask = ctx_->timestamp_valid_bits() >= 64 ? ~0ull : ((1ull << ctx_->timestamp_valid_bits()) - 1);
-    *device_ms += static_cast<double>((ts[1] - ts[0]) & mask) * ctx_->timestamp_period_ns() * 1e-6;
-  }
+void VulkanProgram::AddIntervalsMs(int first, int count, double* ms) {
+  if (query_pool_ == VK_NULL_HANDLE || first < 0 || count < 1 || first + count >= kMaxTimestamps) return;
+  std::uint64_t ts[kMaxTimestamps] = {};
+  const auto n = static_cast<std::uint32_t>(count + 1);
+  if (ctx_->vk().vkGetQueryPoolResults(ctx_->device(), query_pool_, static_cast<std::uint32_t>(first), n,
+                                       n * sizeof(std::uint64_t), ts, sizeof(std::uint64_t),
+                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) != VK_SUCCESS)
+    return;
+  const std::uint64_t mask = ctx_->timestamp_valid_bits() >= 64 ? ~0ull : ((1ull << ctx_->timestamp_valid_bits()) - 1);
+  for (int i = 0; i < count; ++i)
+    ms[i] += static_cast<double>((ts[i + 1] - ts[i]) & mask) * ctx_->timestamp_period_ns() * 1e-6;
 }
 
 }  // namespace ellipsekit

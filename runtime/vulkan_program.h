@@ -8,7 +8,7 @@
 //   ctx's pipeline cache; a shader with `specialized` set gets constant_id 0 = `constant0`), a
 //   descriptor pool holding exactly one set (allocated), a resettable command pool on ctx's queue
 //   family with two primary command buffers, an unsignalled fence, and, when the queue has
-//   timestamps, a 2-query timestamp pool (query_pool() is VK_NULL_HANDLE otherwise).
+//   timestamps, a kMaxTimestamps-query timestamp pool (query_pool() is VK_NULL_HANDLE otherwise).
 //   On failure it answers kInternal naming the failing call; what was made is released by the
 //   destructor. Call it once per object.
 // - The helpers below allocate nothing and may be used on the per-frame path.
@@ -38,6 +38,7 @@ class VulkanProgram {
     std::uint32_t constant0 = 0;
   };
   static constexpr int kMaxBindings = 16;
+  static constexpr int kMaxTimestamps = 8;
 
   VulkanProgram() = default;
   ~VulkanProgram();
@@ -66,7 +67,11 @@ class VulkanProgram {
   Status SubmitAndWait(VkCommandBuffer cb);
   // Adds the time between queries 0 and 1 to *device_ms (nothing when there are no timestamps or
   // the results are not available).
-  void AddDeviceMs(double* device_ms);
+  void AddDeviceMs(double* device_ms) { AddIntervalsMs(0, 1, device_ms); }
+  // Adds the time between queries first + i and first + i + 1 to ms[i], for i < count (queries
+  // first .. first + count < kMaxTimestamps, all written by the last submit; nothing when there
+  // are no timestamps or the results are not available).
+  void AddIntervalsMs(int first, int count, double* ms);
 
  private:
   VulkanContext* ctx_ = nullptr;
