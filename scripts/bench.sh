@@ -63,7 +63,7 @@ for s in sizes:
     lines.append(f"| {s} | {fmt(simd)} | {fmt(canny)} | {fmt(ratio(simd, canny))} | {fmt(bc)} | {fmt(ratio(simd, bc))} | {fmt(ratio(sc, canny))} |")
 lines.append("")
 
-# SIMD per kernel: the best Highway target that ran (the first registered = the dispatcher's pick).
+# SIMD per kernel: the best Highway target that ran (the first registered = Backend::kSimd's default).
 targets = []
 for name in list(runs) + list(skipped):
     parts = name.split("/")
@@ -71,7 +71,7 @@ for name in list(runs) + list(skipped):
         targets.append(parts[2][5:])
 ran_targets = [t for t in targets if any(n.split("/")[2] == f"simd:{t}" for n in runs if n.startswith("kernel/"))]
 best = ran_targets[0] if ran_targets else None
-lines += [f"## SIMD / scalar per kernel (Highway target {best or 'n/a'}, the dispatcher's pick)", "",
+lines += [f"## SIMD / scalar per kernel (Highway target {best or 'n/a'}, the default one)", "",
           "| kernel | " + " | ".join(sizes) + " |", "|---|" + "---|" * len(sizes)]
 for k in kernels:
     cells = [fmt(ratio(ms(f"kernel/{k}/simd:{best}/{s}"), ms(f"kernel/{k}/scalar/{s}"))) for s in sizes]
@@ -101,6 +101,17 @@ for s in sizes:
     dev = v.get("device_ms")
     dev = dev if dev is not None and dev >= 0 else None
     lines.append(f"| {s} | {fmt(v['ms'])} | {fmt(dev)} | {fmt(simd)} | {fmt(ratio(v['ms'], simd))} | {fmt(ratio(dev, simd))} | {v.get('label', '')} |")
+lines.append("")
+
+steps = ["gaussian", "sobel", "thresholds", "nms", "hysteresis", "edge_sign"]
+lines += ["### Vulkan device time per shader step (ms, timestamps); 64x48: the fixed cost per frame", "",
+          "| size | " + " | ".join(steps) + " | device | wall | SIMD wall |", "|---|" + "---|" * (len(steps) + 3)]
+for s in sizes + ["64x48"]:
+    v = runs.get(f"edge_stage/vulkan/{s}")
+    if v is None:
+        continue
+    cells = [fmt(v.get(f"{st}_ms")) for st in steps]
+    lines.append(f"| {s} | " + " | ".join(cells) + f" | {fmt(v.get('device_ms'))} | {fmt(v['ms'])} | {fmt(ms(f'edge_stage/simd/{s}'))} |")
 lines.append("")
 
 lines += ["## End to end: detect() / cv::Canny on the same image (median of per-image ratios)", "",
