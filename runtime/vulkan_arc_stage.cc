@@ -149,7 +149,7 @@ void VulkanArcStage::RecordRoundsAndDownload(VkCommandBuffer cb) {
   for (int i = 0; i < 4; ++i) vk.vkCmdCopyBuffer(cb, buffers_[down_src[i]].buffer, download_.buffer, 1, &downs[i]);
   program_.Barrier(cb, kTransfer | kCompute, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
           VK_ACCESS_HOST_READ_BIT);
-  if (program_.query_pool() != VK_NULL_HANDLE) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, program_.query_pool(), 1);
+  program_.Timestamp(cb, 1);
 }
 
 // Ends, submits and waits for `cb`; adds its device time to *device_ms.
@@ -223,10 +223,7 @@ Status VulkanArcStage::Run(const Curves& curves, std::int32_t tol_q16, std::int6
   const VkCommandBuffer cb = program_.command_buffer(0), more_rounds_cb = program_.command_buffer(1);
   vk.vkResetCommandBuffer(cb, 0);
   vk.vkBeginCommandBuffer(cb, &begin);
-  if (program_.query_pool() != VK_NULL_HANDLE) {
-    vk.vkCmdResetQueryPool(cb, program_.query_pool(), 0, 2);
-    vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, program_.query_pool(), 0);
-  }
+  program_.StartTimestamps(cb, 0, 2);
   // Upload, and every curve to phase 0 (not started). The previous Run's reads are done (fence),
   // so no WAR barrier is needed.
   const VkBufferCopy ups[6] = {{0, 0, 4 * p}, {4 * p, 0, 4 * p}, {8 * p, 0, 4 * p}, {12 * p, 0, 4 * (c + 1)},
@@ -253,15 +250,12 @@ Status VulkanArcStage::Run(const Curves& curves, std::int32_t tol_q16, std::int6
     if (rounds >= max_rounds) return {StatusCode::kInternal, "Vulkan arc stage did not finish within its step bound"};
     vk.vkResetCommandBuffer(more_rounds_cb, 0);
     vk.vkBeginCommandBuffer(more_rounds_cb, &begin);
-    if (program_.query_pool() != VK_NULL_HANDLE) {
-      vk.vkCmdResetQueryPool(more_rounds_cb, program_.query_pool(), 0, 2);
-      vk.vkCmdWriteTimestamp(more_rounds_cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, program_.query_pool(), 0);
-    }
+    program_.StartTimestamps(more_rounds_cb, 0, 2);
     RecordRoundsAndDownload(more_rounds_cb);
     st = Submit(more_rounds_cb, &device_ms);
     if (!st.ok()) return st;
   }
-  last_device_ms_ = program_.query_pool() != VK_NULL_HANDLE ? device_ms : -1;
+  last_device_ms_ = program_.timed() ? device_ms : -1;
 
   ctx_->InvalidateForHostReads(download_);
   const auto t0 = std::chrono::steady_clock::now();

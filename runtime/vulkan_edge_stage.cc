@@ -131,7 +131,7 @@ const char* VulkanEdgeStage::StepName(Step s) {
   return "?";
 }
 
-void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb, bool timed) {
+void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb) {
   const VulkanFunctions& vk = ctx_->vk();
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -146,11 +146,11 @@ void VulkanEdgeStage::RecordHysteresisAndOutput(VkCommandBuffer cb, bool timed) 
     Dispatch(cb, kHysteresis, CeilDiv(mask_words_, kHysteresisGroup), 1, push);
     program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   }
-  if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, program_.query_pool(), kStepHysteresis + 1);
+  program_.Timestamp(cb, kStepHysteresis + 1);
   push[2] = 0;
   Dispatch1D(cb, kEdgeSign, CeilDiv(static_cast<std::uint64_t>(chunks_) * height_, kGroup), push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-  if (timed) vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, program_.query_pool(), kStepEdgeSign + 1);
+  program_.Timestamp(cb, kStepEdgeSign + 1);
 }
 
 Status VulkanEdgeStage::Submit(VkCommandBuffer cb) { return program_.SubmitAndWait(cb); }
@@ -191,13 +191,8 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
   constexpr VkAccessFlags kRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-  const VkQueryPool query_pool = program_.query_pool();
-  const bool timed = query_pool != VK_NULL_HANDLE;
   // Query 0 before the first step, query s + 1 after step s (VulkanEdgeStage::Step).
   double step_ms[kNumSteps] = {};
-  auto mark_end_of = [&](VkCommandBuffer c, Step s) {
-    if (timed) vk.vkCmdWriteTimestamp(c, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool, s + 1);
-  };
 
   VkCommandBufferBeginInfo begin{};
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
@@ -205,10 +200,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   VkCommandBuffer cb = program_.command_buffer(0);
   vk.vkResetCommandBuffer(cb, 0);
   vk.vkBeginCommandBuffer(cb, &begin);
-  if (timed) {
-    vk.vkCmdResetQueryPool(cb, query_pool, 0, kNumSteps + 1);
-    vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool, 0);
-  }
+  program_.StartTimestamps(cb, 0, kNumSteps + 1);
   // The host wrote the frame before the submit (visible to it); the previous frame's work is done
   // (fence), so clearing the histogram needs no barrier before it.
   vk.vkCmdFillBuffer(cb, buffers_[kHist].buffer, 0, VK_WHOLE_SIZE, 0u);
@@ -219,10 +211,10 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
     Dispatch1D(cb, kGaussian, chunk_groups, frame_push);
     program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   }
-  mark_end_of(cb, kStepGaussian);
+  program_.Timestamp(cb, kStepGaussian + 1);
   Dispatch1D(cb, options.gaussian_blur ? kSobel : kSobelRaw, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  mark_end_of(cb, kStepSobel);
+  program_.Timestamp(cb, kStepSobel + 1);
   const std::uint32_t mask_push[6] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4};
   Dispatch1D(cb, kHistogram, CeilDiv(static_cast<std::uint64_t>(plane_row_vec4) * HistogramRows(h), kHistVec4PerGroup),
              mask_push);
@@ -232,11 +224,11 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
                                         static_cast<std::uint32_t>(options.canny_min_high), 0};
   Dispatch(cb, kSelect, 1, 1, select_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  mark_end_of(cb, kStepThresholds);
+  program_.Timestamp(cb, kStepThresholds + 1);
   Dispatch1D(cb, kNms, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  mark_end_of(cb, kStepNms);
-  RecordHysteresisAndOutput(cb, timed);
+  program_.Timestamp(cb, kStepNms + 1);
+  RecordHysteresisAndOutput(cb);
   VkResult r = vk.vkEndCommandBuffer(cb);
   if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
   st = Submit(cb);
@@ -254,11 +246,9 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
     cb = program_.command_buffer(1);
     vk.vkResetCommandBuffer(cb, 0);
     vk.vkBeginCommandBuffer(cb, &begin);
-    if (timed) {  // queries kStepHysteresis .. kStepEdgeSign + 1: start, hysteresis, edge_sign
-      vk.vkCmdResetQueryPool(cb, query_pool, kStepHysteresis, 3);
-      vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool, kStepHysteresis);
-    }
-    RecordHysteresisAndOutput(cb, timed);
+    // Queries kStepHysteresis .. kStepEdgeSign + 1: start, hysteresis, edge_sign.
+    program_.StartTimestamps(cb, kStepHysteresis, 3);
+    RecordHysteresisAndOutput(cb);
     r = vk.vkEndCommandBuffer(cb);
     if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
     st = Submit(cb);
@@ -267,6 +257,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
     rounds += kRoundsPerSubmit;
   }
   last_rounds_ = rounds;
+  const bool timed = program_.timed();
   last_device_ms_ = timed ? 0 : -1;
   for (int s = 0; s < kNumSteps; ++s) {
     last_step_ms_[s] = timed ? step_ms[s] : -1;

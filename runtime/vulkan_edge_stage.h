@@ -80,8 +80,8 @@ class VulkanEdgeStage {
   void ReleaseFrameBuffers();
   void Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t gx, std::uint32_t gy, const std::uint32_t* push);
   void Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t groups, const std::uint32_t* push);
-  // Timestamps (when timed) go to queries kStepHysteresis + 1 and kStepEdgeSign + 1.
-  void RecordHysteresisAndOutput(VkCommandBuffer cb, bool timed);
+  // Timestamps go to queries kStepHysteresis + 1 and kStepEdgeSign + 1.
+  void RecordHysteresisAndOutput(VkCommandBuffer cb);
   Status Submit(VkCommandBuffer cb);
 
   std::shared_ptr<VulkanContext> ctx_;

@@ -173,6 +173,18 @@ Status VulkanProgram::SubmitAndWait(VkCommandBuffer cb) {
   return Status::Ok();
 }
 
+void VulkanProgram::StartTimestamps(VkCommandBuffer cb, int first, int count) {
+  if (query_pool_ == VK_NULL_HANDLE) return;
+  const VulkanFunctions& vk = ctx_->vk();
+  vk.vkCmdResetQueryPool(cb, query_pool_, static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(count));
+  vk.vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, query_pool_, static_cast<std::uint32_t>(first));
+}
+
+void VulkanProgram::Timestamp(VkCommandBuffer cb, int query) {
+  if (query_pool_ == VK_NULL_HANDLE) return;
+  ctx_->vk().vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, query_pool_, static_cast<std::uint32_t>(query));
+}
+
 void VulkanProgram::AddIntervalsMs(int first, int count, double* ms) {
   if (query_pool_ == VK_NULL_HANDLE || first < 0 || count < 1 || first + count >= kMaxTimestamps) return;
   std::uint64_t ts[kMaxTimestamps] = {};

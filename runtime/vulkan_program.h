@@ -8,7 +8,7 @@
 //   ctx's pipeline cache; a shader with `specialized` set gets constant_id 0 = `constant0`), a
 //   descriptor pool holding exactly one set (allocated), a resettable command pool on ctx's queue
 //   family with two primary command buffers, an unsignalled fence, and, when the queue has
-//   timestamps, a kMaxTimestamps-query timestamp pool (query_pool() is VK_NULL_HANDLE otherwise).
+//   timestamps, a kMaxTimestamps-query timestamp pool (timed() is false otherwise).
 //   On failure it answers kInternal naming the failing call; what was made is released by the
 //   destructor. Call it once per object.
 // - The helpers below allocate nothing and may be used on the per-frame path.
@@ -53,7 +53,8 @@ class VulkanProgram {
   VkDescriptorSet set() const { return set_; }
   VkCommandBuffer command_buffer(int i) const { return cbs_[i]; }
   VkFence fence() const { return fence_; }
-  VkQueryPool query_pool() const { return query_pool_; }
+  // Whether the queue has timestamps (then the helpers below record and read them).
+  bool timed() const { return query_pool_ != VK_NULL_HANDLE; }
 
   // Points binding b of the set at the whole of buffers[b], for b < num_bindings.
   void BindBuffers(const VulkanBuffer* buffers);
@@ -65,6 +66,12 @@ class VulkanProgram {
                VkAccessFlags dst_access);
   // Submits the (ended) cb to the queue and waits on the fence (reset afterwards).
   Status SubmitAndWait(VkCommandBuffer cb);
+  // Resets queries [first, first + count) and writes query `first` at the top of the pipe: the start
+  // of a timed span. Records nothing without timestamps.
+  void StartTimestamps(VkCommandBuffer cb, int first, int count);
+  // Writes query `query` once the work recorded before it is done. Records nothing without
+  // timestamps.
+  void Timestamp(VkCommandBuffer cb, int query);
   // Adds the time between queries 0 and 1 to *device_ms (nothing when there are no timestamps or
   // the results are not available).
   void AddDeviceMs(double* device_ms) { AddIntervalsMs(0, 1, device_ms); }
