@@ -165,18 +165,20 @@ void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_
   st.SetBytesProcessed(st.iterations() * bytes_per_iter);
 }
 
-// Which CPU kernels a benchmark runs: the scalar references, the best Highway target here, or one
-// Highway target by its HWY_* bit.
+// Which CPU kernels a benchmark runs: the scalar references, the SIMD target Backend::kSimd runs
+// (ELLIPSEKIT_HWY_TARGET if set, else the best one here), or one Highway target by its HWY_* bit.
 constexpr std::int64_t kScalarKernels = 0;
-constexpr std::int64_t kBestSimdTarget = -1;
+constexpr std::int64_t kDefaultSimdTarget = -1;
 
 #ifdef ELLIPSEKIT_HAVE_SIMD
-const ek::simd::TargetKernels* SimdTarget(std::int64_t target) {
-  const auto& all = ek::simd::Targets();
-  if (target == kBestSimdTarget) return all.empty() ? nullptr : &all.front();
-  for (const auto& k : all) {
+// nullptr, with the reason in *why, when the CPU lacks `target` (or ELLIPSEKIT_HWY_TARGET names
+// no available one).
+const ek::simd::TargetKernels* SimdTarget(std::int64_t target, std::string* why) {
+  if (target == kDefaultSimdTarget) return ek::simd::FindTarget("", why);
+  for (const auto& k : ek::simd::Targets()) {
     if (k.target == target) return &k;
   }
+  *why = "Highway target " + std::string(hwy::TargetName(target)) + " not supported by this CPU";
   return nullptr;
 }
 #endif
@@ -186,8 +188,9 @@ const ek::simd::TargetKernels* SimdTarget(std::int64_t target) {
 const ek::KernelTable* CpuKernels(benchmark::State& st, std::int64_t target) {
   if (target == kScalarKernels) return &ek::ScalarKernels();
 #ifdef ELLIPSEKIT_HAVE_SIMD
-  if (const ek::simd::TargetKernels* k = SimdTarget(target)) return &k->table;
-  st.SkipWithError(("Highway target " + std::string(hwy::TargetName(target)) + " not supported by this CPU").c_str());
+  std::string why;
+  if (const ek::simd::TargetKernels* k = SimdTarget(target, &why)) return &k->table;
+  st.SkipWithError(why.c_str());
 #else
   st.SkipWithError("SIMD backend not built");
 #endif
@@ -342,7 +345,8 @@ void RunArcKernel(benchmark::State& st, const std::string& kernel, std::int64_t 
     // The Highway version directly: the SIMD table keeps the (faster) reference for arc_split.
     auto* arc_split = t.arc_split;
 #ifdef ELLIPSEKIT_HAVE_SIMD
-    if (target != kScalarKernels) arc_split = SimdTarget(target)->arc_split;
+    std::string unused;  // CpuKernels found this target above
+    if (target != kScalarKernels) arc_split = SimdTarget(target, &unused)->arc_split;
 #endif
     ek::Splits out;
     const std::int64_t tan_q16 = ek::SplitTanQ16(o.split_angle_deg);
@@ -663,7 +667,7 @@ void RegisterKernel(const std::string& kernel, const std::string& tail, const st
 #else
   (void)targets;
   benchmark::RegisterBenchmark((name + "/simd" + tail).c_str(),
-                               [run](benchmark::State& st) { run(st, kBestSimdTarget); })->UseRealTime();
+                               [run](benchmark::State& st) { run(st, kDefaultSimdTarget); })->UseRealTime();
 #endif
 }
 
@@ -722,7 +726,7 @@ void Register() {
     benchmark::RegisterBenchmark(("edge_stage/scalar" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_EdgeStageCpu(st, kScalarKernels, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/simd" + tail).c_str(),
-                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, kBestSimdTarget, s); })->UseRealTime();
+                                 [s](benchmark::State& st) { BM_EdgeStageCpu(st, kDefaultSimdTarget, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/vulkan" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("opencv/sobel" + tail).c_str(),
@@ -737,7 +741,7 @@ void Register() {
   // Vulkan: a dispatch and barrier per step, the submit and the fence wait).
   static constexpr Size kTiny{64, 48};
   benchmark::RegisterBenchmark(("edge_stage/simd/" + SizeName(kTiny)).c_str(),
-                               [](benchmark::State& st) { BM_EdgeStageCpu(st, kBestSimdTarget, kTiny); })->UseRealTime();
+                               [](benchmark::State& st) { BM_EdgeStageCpu(st, kDefaultSimdTarget, kTiny); })->UseRealTime();
   benchmark::RegisterBenchmark(("edge_stage/vulkan/" + SizeName(kTiny)).c_str(),
                                [](benchmark::State& st) { BM_EdgeStageVulkan(st, kTiny); })->UseRealTime();
 
