@@ -450,6 +450,30 @@ void BM_EdgeStageVulkan(benchmark::State& st, Size s) {
 #endif
 }
 
+// Cold: each iteration creates the stage (instance, device, pipelines through a new pipeline
+// cache, buffers) and runs its first frame: what a program pays once, at start-up.
+void BM_EdgeStageVulkanCold(benchmark::State& st, Size s) {
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  Prepared& p = PreparedFor(s);
+  const std::size_t n = static_cast<std::size_t>(p.w) * p.h;
+  std::vector<std::int16_t> dx(n), dy(n);
+  std::vector<std::uint8_t> edges(n);
+  const ek::Options o;
+  for (auto _ : st) {
+    std::unique_ptr<ek::VulkanEdgeStage> vk;
+    ek::Status rs = ek::VulkanEdgeStage::Create(&vk);
+    if (rs.ok()) rs = vk->Run(View(p.frame), o, dx.data(), dy.data(), edges.data());
+    if (!rs.ok()) { st.SkipWithError(rs.message().c_str()); break; }
+  }
+  if (st.error_occurred()) return;
+  if (edges != p.edges) { st.SkipWithError("edge map differs from the scalar reference"); return; }
+  SetRates(st, static_cast<std::int64_t>(n), 2LL * static_cast<std::int64_t>(n));
+#else
+  (void)s;
+  st.SkipWithError("Vulkan backend not built");
+#endif
+}
+
 // ---- the whole arc stage on one frame's curves (ArcInputsFor): polyline -> arc_split -> arc_stats,
 // each fed the one before, as fit/arc_selection.cc runs them. scalar: the reference kernels;
 // vulkan: runtime/vulkan_arc_stage.h, warm (an untimed first Run sizes its buffers), upload and
@@ -729,6 +753,8 @@ void Register() {
                                  [s](benchmark::State& st) { BM_EdgeStageCpu(st, kDefaultSimdTarget, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/vulkan" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s); })->UseRealTime();
+    benchmark::RegisterBenchmark(("edge_stage/vulkan_cold" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_EdgeStageVulkanCold(st, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("opencv/sobel" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_OpenCvSobel(st, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("opencv/canny" + tail).c_str(),
