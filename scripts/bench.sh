@@ -105,13 +105,14 @@ lines.append("")
 
 steps = ["gaussian", "sobel", "thresholds", "nms", "hysteresis", "edge_sign"]
 lines += ["### Vulkan device time per shader step (ms, timestamps); 64x48: the fixed cost per frame", "",
-          "| size | " + " | ".join(steps) + " | device | wall | SIMD wall |", "|---|" + "---|" * (len(steps) + 3)]
+          "| size | " + " | ".join(steps) + " | device | wall | cold wall (new stage + first frame) | SIMD wall |",
+          "|---|" + "---|" * (len(steps) + 4)]
 for s in sizes + ["64x48"]:
     v = runs.get(f"edge_stage/vulkan/{s}")
     if v is None:
         continue
     cells = [fmt(v.get(f"{st}_ms")) for st in steps]
-    lines.append(f"| {s} | " + " | ".join(cells) + f" | {fmt(v.get('device_ms'))} | {fmt(v['ms'])} | {fmt(ms(f'edge_stage/simd/{s}'))} |")
+    lines.append(f"| {s} | " + " | ".join(cells) + f" | {fmt(v.get('device_ms'))} | {fmt(v['ms'])} | {fmt(ms(f'edge_stage/vulkan_cold/{s}'))} | {fmt(ms(f'edge_stage/simd/{s}'))} |")
 lines.append("")
 
 lines += ["## End to end: detect() / cv::Canny on the same image (median of per-image ratios)", "",
