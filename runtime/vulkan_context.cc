@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -13,6 +16,29 @@ namespace ellipsekit {
 namespace {
 
 Status Unavailable(const std::string& why) { return {StatusCode::kUnavailable, "Vulkan unavailable: " + why}; }
+
+// The whole file, or nothing when it cannot be read.
+std::vector<char> ReadFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Writes `bytes` to path.tmp, then renames it over path; on any failure path is untouched.
+void WriteFileAtomically(const std::string& path, const std::vector<char>& bytes) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return;
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      return;
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) std::remove(tmp.c_str());
+}
 
 std::string Lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -228,9 +254,20 @@ Status VulkanContext::Init() {
   vk_.vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 
   VkPipelineCacheCreateInfo pcci{};
-
   pcci.sType = VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO;
+  std::vector<char> initial;
+  if (const char* file = std::getenv("ELLIPSEKIT_VK_PIPELINE_CACHE"); file != nullptr && *file != '\0') {
+    pipeline_cache_file_ = file;
+    initial = ReadFileBytes(pipeline_cache_file_);
+    pcci.initialDataSize = initial.size();
+    pcci.pInitialData = initial.empty() ? nullptr : initial.data();
+  }
   r = vk_.vkCreatePipelineCache(device_, &pcci, nullptr, &pipeline_cache_);
+  if (r != VK_SUCCESS && pcci.initialDataSize != 0) {  // data the driver would not take: start empty
+    pcci.initialDataSize = 0;
+    pcci.pInitialData = nullptr;
+    r = vk_.vkCreatePipelineCache(device_, &pcci, nullptr, &pipeline_cache_);
+  }
   if (r != VK_SUCCESS) return {StatusCode::kInternal, std::string("vkCreatePipelineCache failed: ") + VkResultName(r)};
   return Status::Ok();
 }
@@ -238,6 +275,16 @@ Status VulkanContext::Init() {
 VulkanContext::~VulkanContext() {
   if (device_ != VK_NULL_HANDLE) {
     vk_.vkDeviceWaitIdle(device_);
+    if (pipeline_cache_ != VK_NULL_HANDLE && !pipeline_cache_file_.empty()) {
+      std::size_t size = 0;
+      if (vk_.vkGetPipelineCacheData(device_, pipeline_cache_, &size, nullptr) == VK_SUCCESS && size > 0) {
+        std::vector<char> bytes(size);
+        if (vk_.vkGetPipelineCacheData(device_, pipeline_cache_, &size, bytes.data()) == VK_SUCCESS) {
+          bytes.resize(size);
+          WriteFileAtomically(pipeline_cache_file_, bytes);
+        }
+      }
+    }
     if (pipeline_cache_ != VK_NULL_HANDLE) vk_.vkDestroyPipelineCache(device_, pipeline_cache_, nullptr);
     vk_.vkDestroyDevice(device_, nullptr);
   }

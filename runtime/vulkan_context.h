@@ -6,6 +6,10 @@
 // Device choice: ELLIPSEKIT_VK_DEVICE (an index into the device list, or a case-insensitive
 // substring of the device name) when set; otherwise the first discrete GPU, then integrated, then
 // virtual, then CPU (lavapipe), among devices with Vulkan >= 1.1 and a compute queue.
+// Pipeline cache: in memory; with ELLIPSEKIT_VK_PIPELINE_CACHE=<file> it starts from that file's
+// contents (a missing, unreadable or foreign file is an empty start: the driver checks the header)
+// and is written back there when the context is destroyed, through <file>.tmp and a rename, so the
+// file is never left half-written; a failed write leaves the old file as it was.
 #pragma once
 
 #define VK_NO_PROTOTYPES
@@ -31,7 +35,7 @@ namespace ellipsekit {
   X(vkGetBufferMemoryRequirements) X(vkAllocateMemory) X(vkFreeMemory) X(vkBindBufferMemory)        \
   X(vkMapMemory) X(vkUnmapMemory) X(vkFlushMappedMemoryRanges) X(vkInvalidateMappedMemoryRanges)    \
   X(vkCreateShaderModule) X(vkDestroyShaderModule) X(vkCreatePipelineCache)                         \
-  X(vkDestroyPipelineCache) X(vkCreateComputePipelines) X(vkDestroyPipeline)                        \
+  X(vkDestroyPipelineCache) X(vkGetPipelineCacheData) X(vkCreateComputePipelines) X(vkDestroyPipeline)                        \
   X(vkCreatePipelineLayout) X(vkDestroyPipelineLayout) X(vkCreateDescriptorSetLayout)               \
   X(vkDestroyDescriptorSetLayout) X(vkCreateDescriptorPool) X(vkDestroyDescriptorPool)              \
   X(vkAllocateDescriptorSets) X(vkUpdateDescriptorSets) X(vkCreateCommandPool)                      \
@@ -109,6 +113,7 @@ class VulkanContext {
   VkQueue queue_ = VK_NULL_HANDLE;
   std::uint32_t queue_family_ = 0;
   VkPipelineCache pipeline_cache_ = VK_NULL_HANDLE;
+  std::string pipeline_cache_file_;  // ELLIPSEKIT_VK_PIPELINE_CACHE, "" when unset
   std::string device_name_;
   double timestamp_period_ns_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;

@@ -13,9 +13,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -158,6 +162,38 @@ TEST(ConformanceVulkanEdge, SizeChangesReuseAndRecreate) {
     auto img = Shapes(s.first, s.second, seed++);
     ExpectSameBothBlurs(stage, ImageView{img.data(), s.first, s.second, s.first}, "resize");
   }
+}
+
+// ELLIPSEKIT_VK_PIPELINE_CACHE (runtime/vulkan_context.h): the cache is written to the file when
+// the stage goes away, a new stage starts from it with the same results, and a file that is not a
+// pipeline cache is no obstacle (it is replaced by a real one, never left as <file>.tmp).
+TEST(ConformanceVulkanEdge, PipelineCacheFile) {
+  REQUIRE_VULKAN(shared);  // a device exists (or the test skips / fails in CI)
+  namespace fs = std::filesystem;
+  const fs::path file = fs::temp_directory_path() / ("ellipsekit_vk_cache_" + std::to_string(::getpid()) + ".bin");
+  fs::remove(file);
+  ::setenv("ELLIPSEKIT_VK_PIPELINE_CACHE", file.c_str(), 1);
+  auto img = Shapes(64, 48, 3);
+  const ImageView view{img.data(), 64, 48, 64};
+  for (const char* start : {"no file", "the file written before", "a file of garbage"}) {
+    if (std::string(start) == "a file of garbage") std::ofstream(file, std::ios::binary | std::ios::trunc) << "not a cache";
+    {
+      std::unique_ptr<VulkanEdgeStage> stage;
+      const Status st = VulkanEdgeStage::Create(&stage);
+      ASSERT_TRUE(st.ok()) << start << ": " << st.message();
+      ExpectSameBothBlurs(stage.get(), view, std::string("pipeline cache from ") + start);
+    }
+    // A pipeline cache starts with its header: uint32 header length (32 for version one).
+    std::ifstream in(file, std::ios::binary);
+    std::uint32_t header_length = 0;
+    in.read(reinterpret_cast<char*>(&header_length), sizeof header_length);
+    EXPECT_TRUE(in.good()) << start << ": no cache file written";
+    EXPECT_GE(header_length, 32u) << start;
+    EXPECT_GE(fs::file_size(file), header_length) << start;
+    EXPECT_FALSE(fs::exists(file.string() + ".tmp")) << start;
+  }
+  ::unsetenv("ELLIPSEKIT_VK_PIPELINE_CACHE");
+  fs::remove(file);
 }
 
 TEST(ConformanceVulkanEdge, DatasetImages) {
