@@ -28,10 +28,17 @@ void SetArcMoments(const Curves& curves, Arc* arc);
 // A validated ellipse and the arc group it came from (indices into the frame's arcs).
 struct Candidate {
   Ellipse ellipse;
-  int arcs[3] = {-1, -1, -1};
+  int arcs[3] = {-1, -1, -1};  // arc indices; the third is -1 for a pair
   // Set by ClusterCandidates on a cluster reference: the outer rim chosen for it, if any.
   bool has_rim = false;
   Ellipse rim;
+  // Set by ClusterCandidates on a cluster reference: the member with the best FitShare so far,
+  // and how many members were tried.
+  Ellipse best_fit;
+  double best_fit_share = -1;
+  int fit_tries = 0;
+
+  bool FromPair() const { return arcs[2] < 0; }  // a two-arc group (Options::pair_candidates)
 };
 
 }  // namespace ellipsekit

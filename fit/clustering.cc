@@ -16,6 +16,13 @@ double OrientationDifference(double t1, double t2) {
 // Both nearly circles: their orientations mean little and are not compared.
 bool BothNearlyRound(const Ellipse& v, const Ellipse& w) { return v.b > 0.9 * v.a && w.b > 0.9 * w.a; }
 
+// Members of a cluster tried as its representative (Options::cluster_pick_best_fit), best score
+// first. Measured F on 200 generated scenes, seeds 7 / 11 / 23, tries 4 / 6 / 8 / all: 0.900 /
+// 0.898 / 0.920, 0.902 / 0.898 / 0.920, 0.899 / 0.897 / 0.923, 0.899 / 0.896 / 0.922 (shared
+// datasets equal): a weakly scoring member is rarely the better fit, and each try costs a
+// FineEdgeCoverage.
+constexpr int kFitTries = 6;
+
 }  // namespace
 
 double FeatureDistance(const Ellipse& v, const Ellipse& w) {
@@ -47,7 +54,8 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
 }
 
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options, const CandidateCheck* check) {
-  auto passes = [&](const Candidate& c) { return check == nullptr || check->Passes(c.ellipse); };
+  auto passes = [&](const Candidate& c) { return check == nullptr || check->Passes(c); };
+  const bool pick_best_fit = options.cluster_pick_best_fit && check != nullptr;
   // Best score first; equal scores ordered by the parameters, so the order is total and the
   // result never depends on the sort algorithm.
   std::vector<Candidate>& c = *candidates;
@@ -62,8 +70,8 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     return x.theta < y.theta;
   });
   // c[0, kept) are the cluster references (each the best-scoring member that founded its
-  // cluster); membership is always tested against the reference, never against the rim chosen
-  // for it, so a cluster cannot drift outwards.
+  // cluster); membership is always tested against the reference, never against the rim or the
+  // member chosen to represent it, so a cluster cannot drift.
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size(); ++i) {
     std::size_t k = 0;
@@ -72,18 +80,39 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
       if (!passes(c[i])) continue;
       c[kept] = c[i];
       c[kept].has_rim = false;
+      c[kept].best_fit = c[i].ellipse;
+      c[kept].best_fit_share = pick_best_fit ? check->FitShare(c[i], -1) : -1;
+      c[kept].fit_tries = 0;
       ++kept;
       continue;
     }
+    Candidate& ref = c[k];
+    const bool outer = IsOuterRim(c[i].ellipse, ref.ellipse);
     // The best-scoring outer rim of the reference within the margin (members arrive best first).
-    if (!c[k].has_rim && c[i].ellipse.score >= c[k].ellipse.score - options.cluster_outer_margin &&
-        IsOuterRim(c[i].ellipse, c[k].ellipse) && passes(c[i])) {
-      c[k].has_rim = true;
-      c[k].rim = c[i].ellipse;
+    if (outer && !ref.has_rim && c[i].ellipse.score >= ref.ellipse.score - options.cluster_outer_margin &&
+        passes(c[i])) {
+      ref.has_rim = true;
+      ref.rim = c[i].ellipse;
+    }
+    // A member that fits the edges more tightly than the representative so far (rims of the
+    // reference, outer or inner, are other ellipses, never its representative); only the
+    // kFitTries best-scoring members are tried.
+    if (pick_best_fit && !outer && !IsOuterRim(ref.ellipse, c[i].ellipse) && ref.fit_tries++ < kFitTries) {
+      const double share = check->FitShare(c[i], ref.best_fit_share);
+      if (share > ref.best_fit_share && passes(c[i])) {
+        ref.best_fit_share = share;
+        ref.best_fit = c[i].ellipse;
+      }
     }
   }
   for (std::size_t k = 0; k < kept; ++k) {
-    if (c[k].has_rim) c[k].ellipse = c[k].rim;
+    if (c[k].has_rim) {
+      c[k].ellipse = c[k].rim;
+    } else {
+      const double score = c[k].ellipse.score;
+      c[k].ellipse = c[k].best_fit;
+      c[k].ellipse.score = score;
+    }
   }
   return static_cast<int>(kept);
 }

@@ -32,19 +32,26 @@ double FeatureDistance(const Ellipse& v, const Ellipse& w);
 // True when v and w are the same ellipse under options.cluster_rule.
 bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options);
 
-// A check a candidate must pass to found or represent a cluster (the edge coverage), asked lazily:
-// only of candidates that would, so duplicates of a cluster are never checked. The result is the
-// same as removing every failing candidate first.
+// The edge-map checks of the clustering (the detector's edge coverage), asked lazily: only of
+// candidates that would found or represent a cluster, so most duplicates are never checked.
+// Leaving failing candidates out this way gives the same result as removing them first.
 class CandidateCheck {
  public:
-  virtual bool Passes(const Ellipse& e) const = 0;
+  // Whether c may found or represent a cluster.
+  virtual bool Passes(const Candidate& c) const = 0;
+  // How tightly the edge map backs c's outline (higher is better): ranks the members of a cluster
+  // under Options::cluster_pick_best_fit. May return any value <= to_beat once it cannot beat it.
+  virtual double FitShare(const Candidate& c, double to_beat) const = 0;
 
  protected:
   ~CandidateCheck() = default;
 };
 
 // Sorts `candidates` by score (in place) and moves the cluster references to its front;
-// returns how many there are. With `check`, candidates failing it are left out.
+// returns how many there are. With `check`, candidates failing it are left out, and with
+// options.cluster_pick_best_fit each cluster is represented by the member (outer and inner rims of
+// its reference aside) with the highest FitShare, keeping the reference's score; an outer rim
+// chosen for the cluster (see above) still takes precedence.
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options,
                       const CandidateCheck* check = nullptr);
 

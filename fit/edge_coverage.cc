@@ -1,5 +1,6 @@
 #include "fit/edge_coverage.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -8,45 +9,145 @@
 namespace ellipsekit {
 
 namespace {
+
 constexpr int kSectors = 64;
 constexpr int kSamplesPerSector = 4;
-}  // namespace
+constexpr int kSamples = kSectors * kSamplesPerSector;
+constexpr int kFineSamples = 64;       // FineEdgeCoverage: one sample in the middle of each sector
+constexpr double kFineDistance = 1.0;  // px, FineEdgeCoverage's band either side of the outline
+constexpr int kClaimRadius = 2;        // px, ClaimEdges' neighbourhood (5x5)
 
-double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share) {
-  // (cos t, sin t) of the 256 sample angles, computed once.
+// (cos t, sin t) of the 256 sample angles, computed once.
+const std::array<std::array<double, 2>, kSamples>& UnitSamples() {
   static const auto kUnit = [] {
-    std::array<std::array<double, 2>, kSectors * kSamplesPerSector> unit{};
+    std::array<std::array<double, 2>, kSamples> unit{};
     for (std::size_t i = 0; i < unit.size(); ++i) {
       const double t = (i + 0.5) * (2 * std::numbers::pi / unit.size());
       unit[i] = {std::cos(t), std::sin(t)};
     }
     return unit;
   }();
-  const double c = std::cos(e.theta), s = std::sin(e.theta);
+  return kUnit;
+}
+
+// The ellipse in its own frame, and its sample points with their normals.
+struct Outline {
+  const Ellipse& e;
+  double c, s, ia, ib;
+  explicit Outline(const Ellipse& el)
+      : e(el), c(std::cos(el.theta)), s(std::sin(el.theta)), ia(1 / el.a), ib(1 / el.b) {}
+
+  struct Sample {
+    double px, py, nx, ny;
+  };
+  Sample At(int i) const {
+    const auto [ct, st] = UnitSamples()[i];
+    // The outward normal at t: (b cos t, a sin t) in the ellipse frame.
+    const double nu = e.b * ct, nv = e.a * st;
+    return {e.cx + e.a * ct * c - e.b * st * s, e.cy + e.a * ct * s + e.b * st * c, nu * c - nv * s,
+            nu * s + nv * c};
+  }
+  // First-order distance of (x, y) to the ellipse, |F| / |grad F|, F = u^2 + v^2 - 1, compared
+  // with d without a root or a division.
+  bool Within(double x, double y, double d) const {
+    const double dx = x - e.cx, dy = y - e.cy;
+    const double u = (dx * c + dy * s) * ia, v = (dy * c - dx * s) * ib;
+    const double f = u * u + v * v - 1, gu = 2 * u * ia, gv = 2 * v * ib;
+    return f * f <= d * d * (gu * gu + gv * gv);
+  }
+};
+
+// Nearest integer, halves up (in reach of the frame, so no overflow); inline, unlike std::lround.
+int RoundToInt(double v) { return static_cast<int>(std::floor(v + 0.5)); }
+
+bool InReach(const Outline::Sample& p, const EdgeMapView& in) {
+  return p.px > -3 && p.px < in.width + 2 && p.py > -3 && p.py < in.height + 2;
+}
+
+// Whether pixel (x, y) is an edge pixel (inside the frame) with its gradient along (nx, ny).
+bool EdgeAlong(const EdgeMapView& in, int x, int y, double nx, double ny) {
+  if (x < 0 || x >= in.width || y < 0 || y >= in.height || in.edge_map[y * in.stride + x] == 0) return false;
+  return GradientAlongNormal(in.dx[y * in.grad_stride + x], in.dy[y * in.grad_stride + x], nx, ny);
+}
+
+}  // namespace
+
+void EdgeClaims::Resize(int width, int height) {
+  mask.assign(static_cast<std::size_t>(width) * height, 0);
+  claimed.clear();
+  claimed.reserve(mask.size());
+}
+
+void EdgeClaims::Clear() {
+  for (const std::int32_t i : claimed) mask[i] = 0;
+  claimed.clear();
+}
+
+double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share, const EdgeClaims* exclude) {
+  const Outline outline(e);
   const int needed = static_cast<int>(std::ceil(min_share * kSectors));
   int covered = 0;
   for (int sector = 0; sector < kSectors; ++sector) {
     if (covered + (kSectors - sector) < needed) break;  // min_share is out of reach
     bool hit = false;
     for (int k = 0; k < kSamplesPerSector && !hit; ++k) {
-      const auto [ct, st] = kUnit[sector * kSamplesPerSector + k];
-      const double px = e.cx + e.a * ct * c - e.b * st * s, py = e.cy + e.a * ct * s + e.b * st * c;
-      if (!(px > -2 && px < in.width + 1 && py > -2 && py < in.height + 1)) continue;  // no pixel in reach
-      // The outward normal at t: (b cos t, a sin t) in the ellipse frame.
-      const double nu = e.b * ct, nv = e.a * st;
-      const double nx = nu * c - nv * s, ny = nu * s + nv * c;
-      const int x0 = static_cast<int>(std::lround(px)), y0 = static_cast<int>(std::lround(py));
+      const Outline::Sample p = outline.At(sector * kSamplesPerSector + k);
+      if (!InReach(p, in)) continue;
+      const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
       for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
-        if (y < 0 || y >= in.height) continue;
         for (int x = x0 - 1; x <= x0 + 1 && !hit; ++x) {
-          if (x < 0 || x >= in.width || in.edge_map[y * in.stride + x] == 0) continue;
-          hit = GradientAlongNormal(in.dx[y * in.grad_stride + x], in.dy[y * in.grad_stride + x], nx, ny);
+          hit = EdgeAlong(in, x, y, p.nx, p.ny) && (exclude == nullptr || exclude->mask[y * in.width + x] == 0);
         }
       }
     }
     covered += hit;
   }
   return static_cast<double>(covered) / kSectors;
+}
+
+void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims) {
+  const Outline outline(e);
+  // Samples about kClaimRadius px apart (Ramanujan's perimeter) are enough for the 5x5
+  // neighbourhoods to overlap; a small ellipse needs far fewer than 256.
+  const double h = (e.a - e.b) * (e.a - e.b) / ((e.a + e.b) * (e.a + e.b));
+  const double perimeter = std::numbers::pi * (e.a + e.b) * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
+  const int step = perimeter < kSamples * kClaimRadius
+                       ? std::max(1, static_cast<int>(kSamples * kClaimRadius / std::max(perimeter, 1.0)))
+                       : 1;
+  for (int i = 0; i < kSamples; i += step) {
+    const Outline::Sample p = outline.At(i);
+    if (!InReach(p, in)) continue;
+    const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
+    for (int y = y0 - kClaimRadius; y <= y0 + kClaimRadius; ++y) {
+      for (int x = x0 - kClaimRadius; x <= x0 + kClaimRadius; ++x) {
+        if (!EdgeAlong(in, x, y, p.nx, p.ny)) continue;
+        const std::int32_t index = y * in.width + x;
+        if (claims->mask[index] != 0) continue;
+        claims->mask[index] = 1;
+        claims->claimed.push_back(index);
+      }
+    }
+  }
+}
+
+double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat) {
+  const Outline outline(e);
+  const int needed = static_cast<int>(std::floor(to_beat * kFineSamples)) + 1;  // hits that beat to_beat
+  int hits = 0;
+  for (int i = 0; i < kFineSamples; ++i) {
+    if (hits + (kFineSamples - i) < needed) break;  // to_beat is out of reach
+    const Outline::Sample p = outline.At(i * (kSamples / kFineSamples) + kSamples / kFineSamples / 2);
+    if (!InReach(p, in)) continue;
+    const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
+    bool hit = false;
+    for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
+      for (int x = x0 - 1; x <= x0 + 1 && !hit; ++x) {
+        hit = EdgeAlong(in, x, y, p.nx, p.ny) && outline.Within(x, y, kFineDistance);
+      }
+    }
+    hits += hit;
+  }
+  return static_cast<double>(hits) / kFineSamples;
 }
 
 }  // namespace ellipsekit

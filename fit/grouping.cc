@@ -55,7 +55,7 @@ double DistanceRatio(const Arc* const* group, int count, const Eigen::Vector2d& 
 // A refitted ellipse fits the group to the pixel, so psi is held to a much stricter bar (README).
 bool Validate(const Curves& curves, const Arc* const* group, int count, bool refined, const Options& options,
               Ellipse* e) {
-  if (!(e->b >= 1.0)) return false;
+  if (!(e->b >= 1.0) || e->b < options.min_axis_ratio * e->a) return false;
   const double k = LengthRatio(group, count, *e);
   if (!(k > options.length_ratio)) return false;
   const double min_psi = refined ? options.refined_circumference_ratio : options.circumference_ratio;
@@ -103,6 +103,120 @@ bool SpanFailsLengthRatio(const Arc* const* group, int count, double length_rati
   return (d + std::sqrt(w2)) / 2 - 2 >= bound;
 }
 
+
+Candidate MakeCandidate(const Ellipse& e, int first, int second, int third) {
+  Candidate c;
+  c.ellipse = e;
+  c.arcs[0] = first;
+  c.arcs[1] = second;
+  c.arcs[2] = third;
+  return c;
+}
+
+// Two arcs of one ellipse that a pair candidate could stand on lie close: their mid-points within
+// kPairMidDistance times the largest arc extent (bounding-box side).
+constexpr double kPairMidDistance = 3;
+bool MidPointsNear(const Arc& u, const Arc& v) {
+  const double extent = std::max({u.width, u.height, v.width, v.height});
+  return (u.mid - v.mid).squaredNorm() <= kPairMidDistance * kPairMidDistance * extent * extent;
+}
+
+// Opposite quadrants where an ellipse puts them: III lies below-left of I, IV below-right of II
+// (bounding boxes, 1 px tolerance), mid-points near (MidPointsNear).
+bool OppositePositionHolds(const Arc& upper, const Arc& lower) {
+  const bool placed = upper.quadrant == kQuadrantI
+                          ? lower.min_x <= upper.min_x + kPositionTolerance && lower.max_y + kPositionTolerance >= upper.max_y
+                          : lower.max_x + kPositionTolerance >= upper.max_x && lower.max_y + kPositionTolerance >= upper.max_y;
+  return placed && MidPointsNear(upper, lower);
+}
+
+// A two-arc candidate (Options::pair_candidates): refitted, then Gamma, K and psi as for triplets.
+// False when the group fails; true with *e set otherwise.
+bool PairCandidate(const Curves& curves, const Arc& first, const Arc& second, const Options& options, Ellipse* e) {
+  const Arc* group[2] = {&first, &second};
+  if (SpanFailsLengthRatio(group, 2, options.length_ratio)) return false;
+  if (!RefineEllipse(group, 2, e)) return false;
+  if (!(DistanceRatio(group, 2, Eigen::Vector2d(e->cx, e->cy)) < options.distance_ratio)) return false;
+  return Validate(curves, group, 2, /*refined=*/true, options, e);
+}
+
+// Triplets: (a, b) and (b, c) share the middle arc b. False when a cap ended the search.
+bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
+                          GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
+  const int n = static_cast<int>(arcs.size());
+  const double tc2 = options.center_distance * options.center_distance;
+  for (int b = 0; b < n; ++b) {
+    for (int u = s->as_next_offset[b]; u < s->as_next_offset[b + 1]; ++u) {
+      const GroupScratch::Pair& ab = s->pairs[s->as_next[u]];
+      for (int v = s->as_prev_offset[b]; v < s->as_prev_offset[b + 1]; ++v) {
+        const GroupScratch::Pair& bc = s->pairs[s->as_prev[v]];
+        if (ab.prev == bc.next) continue;
+        if ((ab.center - bc.center).squaredNorm() >= tc2) continue;
+        if (stats->triplets >= options.max_triplets) { stats->caps_hit |= kCapTriplets; return false; }
+        ++stats->triplets;
+        const Arc* group[3] = {&arcs[ab.prev], &arcs[b], &arcs[bc.next]};
+        if (options.refine_fit && SpanFailsLengthRatio(group, 3, options.length_ratio)) continue;
+        // The refit (our addition) replaces the centre and parameters of eqs. 3-12 when it
+        // succeeds, and its centre is then the one Gamma is measured from; the mean-shift centre
+        // (Fig. 7) is computed only for the paper's path, where eqs. 8-12 need it.
+        Ellipse e;
+        const bool refined = options.refine_fit && RefineEllipse(group, 3, &e);
+        Eigen::Vector2d center(e.cx, e.cy);
+        if (!refined) {
+          bool ms_capped = false;
+          center = TripletCenter(*group[0], *group[1], *group[2], ab.center, bc.center, options, &ms_capped);
+          if (ms_capped) stats->caps_hit |= kCapMeanShift;
+        }
+        if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
+        if (!refined && !EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
+        if (!Validate(curves, group, 3, refined, options, &e)) continue;
+        if (static_cast<int>(candidates->size()) >= options.max_candidates) {
+          stats->caps_hit |= kCapCandidates;
+          return false;
+        }
+        candidates->push_back(MakeCandidate(e, ab.prev, b, bc.next));
+      }
+    }
+  }
+  return true;
+}
+
+// Two-arc candidates (Options::pair_candidates): the position-tested pairs of consecutive
+// quadrants, then opposite ones (capped like them, a quarter of max_pairs per kind).
+void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
+                       GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
+  auto add = [&](int first, int second) {
+    Ellipse e;
+    if (!PairCandidate(curves, arcs[first], arcs[second], options, &e)) return true;
+    if (static_cast<int>(candidates->size()) >= options.max_candidates) {
+      stats->caps_hit |= kCapCandidates;
+      return false;
+    }
+    candidates->push_back(MakeCandidate(e, first, second, -1));
+    return true;
+  };
+  for (const GroupScratch::Pair& p : s->pairs) {
+    if (MidPointsNear(arcs[p.prev], arcs[p.next]) && !add(p.prev, p.next)) return;
+  }
+  const int per_kind = std::max(1, options.max_pairs / 4);
+  for (int upper = kQuadrantI; upper <= kQuadrantII; ++upper) {
+    int kept = 0;
+    for (int i : s->by_quadrant[upper]) {
+      for (int j : s->by_quadrant[upper + 2]) {
+        if (!OppositePositionHolds(arcs[i], arcs[j])) continue;
+        if (kept >= per_kind) {
+          stats->caps_hit |= kCapPairs;
+          break;
+        }
+        ++kept;
+        ++stats->pairs;
+        if (!add(i, j)) return;
+      }
+      if (kept >= per_kind) break;
+    }
+  }
+}
+
 }  // namespace
 
 void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
@@ -144,41 +258,8 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
   BuildCsr(n, s->pairs, /*by_next=*/true, &s->as_next_offset, &s->as_next);
   BuildCsr(n, s->pairs, /*by_next=*/false, &s->as_prev_offset, &s->as_prev);
 
-  // Triplets: (a, b) and (b, c) share the middle arc b.
-  const double tc2 = options.center_distance * options.center_distance;
-  for (int b = 0; b < n; ++b) {
-    for (int u = s->as_next_offset[b]; u < s->as_next_offset[b + 1]; ++u) {
-      const GroupScratch::Pair& ab = s->pairs[s->as_next[u]];
-      for (int v = s->as_prev_offset[b]; v < s->as_prev_offset[b + 1]; ++v) {
-        const GroupScratch::Pair& bc = s->pairs[s->as_prev[v]];
-        if (ab.prev == bc.next) continue;
-        if ((ab.center - bc.center).squaredNorm() >= tc2) continue;
-        if (stats->triplets >= options.max_triplets) { stats->caps_hit |= kCapTriplets; return; }
-        ++stats->triplets;
-        const Arc* group[3] = {&arcs[ab.prev], &arcs[b], &arcs[bc.next]};
-        if (options.refine_fit && SpanFailsLengthRatio(group, 3, options.length_ratio)) continue;
-        // The refit (our addition) replaces the centre and parameters of eqs. 3-12 when it
-        // succeeds, and its centre is then the one Gamma is measured from; the mean-shift centre
-        // (Fig. 7) is computed only for the paper's path, where eqs. 8-12 need it.
-        Ellipse e;
-        const bool refined = options.refine_fit && RefineEllipse(group, 3, &e);
-        Eigen::Vector2d center(e.cx, e.cy);
-        if (!refined) {
-          bool ms_capped = false;
-          center = TripletCenter(*group[0], *group[1], *group[2], ab.center, bc.center, options, &ms_capped);
-          if (ms_capped) stats->caps_hit |= kCapMeanShift;
-        }
-        if (!(DistanceRatio(group, 3, center) < options.distance_ratio)) continue;  // Gamma < T_f
-        if (!refined && !EstimateParameters(curves, group, 3, center, &s->params, &e)) continue;
-        if (!Validate(curves, group, 3, refined, options, &e)) continue;
-        if (static_cast<int>(candidates->size()) >= options.max_candidates) {
-          stats->caps_hit |= kCapCandidates;
-          return;
-        }
-        candidates->push_back({e, {ab.prev, b, bc.next}, false, {}});
-      }
-    }
-  }
+  if (!AddTripletCandidates(curves, arcs, options, s, candidates, stats)) return;
+  if (options.pair_candidates && options.refine_fit) AddPairCandidates(curves, arcs, options, s, candidates, stats);
 }
 
 }  // namespace ellipsekit

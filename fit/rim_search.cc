@@ -101,7 +101,7 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     }
   }
   *scanned_pixels = scanned;
-  int best = -1, best_covered = 0;
+  int best = -1, best_covered = 0, best_half = 0;
   for (int i = 0; i < bins; ++i) {
     std::uint64_t band = 0;
     for (int j = std::max(0, i - half); j <= std::min(bins - 1, i + half); ++j) band |= sectors[j];
@@ -109,9 +109,13 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     if (covered > best_covered) {
       best_covered = covered;
       best = i;
+      best_half = std::max(std::popcount(band & 0xffffffffull), std::popcount(band >> 32));
     }
   }
-  if (best < 0 || best_covered < min_coverage * kSectors) return false;
+  // Sectors [0, 32) are the half v < 0 of the ellipse frame, [32, 64) the half v > 0.
+  const bool half_backed =
+      best_half >= kRimHalfCoverage * (kSectors / 2) && best_covered >= kRimHalfMinCoverage * kSectors;
+  if (best < 0 || (best_covered < min_coverage * kSectors && !half_backed)) return false;
   double sum = 0;
   int n = 0;
   for (int j = std::max(0, best - half); j <= std::min(bins - 1, best + half); ++j) {

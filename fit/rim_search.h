@@ -15,14 +15,22 @@ namespace ellipsekit {
 
 inline constexpr double kRimSearchMinScale = 1.04;
 inline constexpr double kRimSearchMaxScale = 1.45;
+// A rim whose coverage misses min_coverage is still accepted when one half of it (split along its
+// major axis) is covered over kRimHalfCoverage and the whole over kRimHalfMinCoverage: the near
+// half of a can's rim often runs along the can's own side, of the same shade, and leaves no edge
+// there, while the far half stands against the background. Measured F (200 scenes, seeds 7 / 11):
+// without it 0.900 / 0.898 -> 0.902 / 0.898; shared datasets unchanged.
+inline constexpr double kRimHalfCoverage = 0.9;
+inline constexpr double kRimHalfMinCoverage = 0.5;
 
 // Searches k * inner for k in [max(kRimSearchMinScale, 1 + 1.5 / inner.b), kRimSearchMaxScale]:
 // an edge pixel supports scale r (its normalised radius in inner's frame) when its gradient is
 // within ~26 degrees of the ellipse normal there; the scale whose +-1 px band has supporting
 // pixels in the most of 64 equal sectors of the ellipse's angle wins (ties: the smaller scale).
 // Returns true and sets *outer (scale = the mean radius of the band's pixels, score kept from
-// inner) when that coverage is >= min_coverage. Scans only the annulus between k_min * inner and
-// k_max * inner, row by row (clipped to the frame); *scanned_pixels = the pixels scanned, the work
+// inner) when that coverage is >= min_coverage, or the half rule above holds. Scans only the
+// annulus between k_min * inner and k_max * inner, row by row (clipped to the frame);
+// *scanned_pixels = the pixels scanned, the work
 // done. No allocation.
 bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
                   long* scanned_pixels);

@@ -26,6 +26,21 @@ namespace ellipsekit {
 
 namespace {
 
+// An axis-aligned box, for cheap "could these two ellipses touch" tests.
+struct Box {
+  double x0, y0, x1, y1;
+  bool Intersects(const Box& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+};
+
+// The bounding box of e, grown by `margin` px on every side.
+Box BoundingBox(const Ellipse& e, double margin) {
+  const double c = std::cos(e.theta), s = std::sin(e.theta);
+  const double hx = std::sqrt(e.a * e.a * c * c + e.b * e.b * s * s) + margin;
+  const double hy = std::sqrt(e.a * e.a * s * s + e.b * e.b * c * c) + margin;
+  return {e.cx - hx, e.cy - hy, e.cx + hx, e.cy + hy};
+}
+
+
 using Clock = std::chrono::steady_clock;
 
 double Ms(Clock::time_point a, Clock::time_point b) {
@@ -41,10 +56,6 @@ bool Finite(double v) { return std::isfinite(v); }
 std::size_t ReserveFor(int cap) {
   return static_cast<std::size_t>(std::min(cap, kMaxReserved));
 }
-
-namespace {
-
-}  // namespace
 
 Status ValidateOptions(const Options& o) {
   if (o.canny_high_permille < 0 || o.canny_high_permille > 1000) return Invalid("canny_high_permille must be in [0, 1000]");
@@ -71,6 +82,12 @@ Status ValidateOptions(const Options& o) {
   if (!Finite(o.cluster_outer_margin)) return Invalid("cluster_outer_margin must be a finite number");
   if (!Finite(o.min_edge_coverage) || o.min_edge_coverage < 0 || o.min_edge_coverage > 1)
     return Invalid("min_edge_coverage must be in [0, 1]");
+  if (!Finite(o.min_exclusive_coverage) || o.min_exclusive_coverage < 0 || o.min_exclusive_coverage > 1)
+    return Invalid("min_exclusive_coverage must be in [0, 1]");
+  if (!Finite(o.pair_min_edge_coverage) || o.pair_min_edge_coverage < 0 || o.pair_min_edge_coverage > 1)
+    return Invalid("pair_min_edge_coverage must be in [0, 1]");
+  if (!Finite(o.min_axis_ratio) || o.min_axis_ratio < 0 || o.min_axis_ratio > 1)
+    return Invalid("min_axis_ratio must be in [0, 1]");
   if (!Finite(o.rim_min_coverage) || o.rim_min_coverage < 0)
     return Invalid("rim_min_coverage must be >= 0 (> 1 turns the outer-rim search off)");
   if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
@@ -106,15 +123,22 @@ Status ValidateImage(const ImageView& image, const Options& options) {
   return Status::Ok();
 }
 
-// Options::min_edge_coverage as a clustering check.
+// Options::min_edge_coverage (pair_min_edge_coverage for two-arc candidates) as the clustering's
+// check, and FineEdgeCoverage as its ranking of a cluster's members.
 class CoverageCheck final : public CandidateCheck {
  public:
-  CoverageCheck(const EdgeMapView& view, double min_share) : view_(view), min_share_(min_share) {}
-  bool Passes(const Ellipse& e) const override { return EdgeCoverage(view_, e, min_share_) >= min_share_; }
+  CoverageCheck(const EdgeMapView& view, const Options& options) : view_(view), options_(options) {}
+  bool Passes(const Candidate& c) const override {
+    const double min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
+    return min_share <= 0 || EdgeCoverage(view_, c.ellipse, min_share) >= min_share;
+  }
+  double FitShare(const Candidate& c, double to_beat) const override {
+    return FineEdgeCoverage(view_, c.ellipse, to_beat);
+  }
 
  private:
   EdgeMapView view_;
-  double min_share_;
+  const Options& options_;
 };
 
 struct Detector::Impl {
@@ -141,6 +165,9 @@ struct Detector::Impl {
   std::vector<Arc> arcs;
   GroupScratch groups;
   std::vector<Candidate> candidates;
+  EdgeClaims claims;                          // Options::min_exclusive_coverage
+  std::vector<std::pair<double, int>> by_coverage;
+  std::vector<Box> boxes;
 
   void Resize(int w, int h) {
     if (w == width && h == height) return;
@@ -148,6 +175,7 @@ struct Detector::Impl {
     height = h;
     const std::size_t n = static_cast<std::size_t>(w) * h;
     blurred.resize(n); nms.resize(n); edge_map.resize(n);
+    claims.Resize(w, h);
     dx.resize(n); dy.resize(n); mag.resize(n);
     hist.resize(kMaxMagnitude + 1);
     stack.resize(n);
@@ -169,13 +197,30 @@ struct Detector::Impl {
     arc_scratch.hull.reserve(static_cast<std::size_t>(ObbScratchSize(n, n)));
     arcs.reserve(n);
     candidates.reserve(ReserveFor(options.max_candidates));
+    by_coverage.reserve(ReserveFor(options.max_candidates));
+    boxes.reserve(ReserveFor(options.max_candidates));
     groups.Reserve(n, options);
   }
 
   Status Detect(const ImageView& image, DetectionResult* result);
   void CompleteOuterRims(int kept, GroupStats* stats);
+  int KeepExclusivelySupported(int kept);
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
+
+namespace {
+
+bool NearlySame(const Ellipse& v, const Ellipse& w) {
+  static const Options kRelative = [] {
+    Options o;
+    o.cluster_rule = ClusterRule::kRelative;
+    o.cluster_relative = 0.1;
+    return o;
+  }();
+  return SameEllipse(v, w, kRelative);
+}
+
+}  // namespace
 
 // Outer-rim completion (fit/rim_search.h) of candidates[0, kept), best first, within a budget of
 // two frames' worth of scanned pixels (kCapRimSearch when it runs out).
@@ -195,10 +240,47 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     const bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned);
     budget -= scanned;
     if (!found) continue;
-    bool detected = false;  // as an ellipse of its own: then both stay
-    for (int j = 0; j < kept && !detected; ++j) detected = j != i && SameEllipse(rim, candidates[j].ellipse, options);
+    // Already detected as an ellipse of its own (then both stay): nearly the same ellipse, by
+    // ClusterRule::kRelative at 0.1, not by eq. 17's 25 px, which would also match a different
+    // ellipse nearby (a top-and-side fit below the rim).
+    bool detected = false;
+    for (int j = 0; j < kept && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
     if (!detected) c.ellipse = rim;
   }
+}
+
+// Options::min_exclusive_coverage. Only ellipses whose outlines come near another kept one (boxes
+// within kClaimReach px) can share edges; those, in order of edge coverage (best first; ties: the
+// clustering's order), claim their edges, and one left with too little coverage by unclaimed edges
+// is dropped. Keeps the survivors' order; returns how many there are. Work per competing ellipse:
+// 3 coverage passes (256 samples x at most 25 pixels).
+int Detector::Impl::KeepExclusivelySupported(int kept) {
+  if (!(options.min_exclusive_coverage > 0) || kept < 2) return kept;
+  constexpr double kClaimReach = 3;  // px: EdgeCoverage's 1 px neighbourhood + ClaimEdges' 2 px
+  const EdgeMapView in = EdgeView();
+  boxes.clear();
+  for (int i = 0; i < kept; ++i) boxes.push_back(BoundingBox(candidates[i].ellipse, kClaimReach));
+  by_coverage.clear();
+  for (int i = 0; i < kept; ++i) {
+    bool near_another = false;
+    for (int j = 0; j < kept && !near_another; ++j) near_another = j != i && boxes[i].Intersects(boxes[j]);
+    if (near_another) by_coverage.push_back({-EdgeCoverage(in, candidates[i].ellipse), i});
+  }
+  std::sort(by_coverage.begin(), by_coverage.end());
+  for (const auto& [negative_coverage, i] : by_coverage) {
+    const Ellipse& e = candidates[i].ellipse;
+    if (EdgeCoverage(in, e, options.min_exclusive_coverage, &claims) < options.min_exclusive_coverage) {
+      candidates[i].ellipse.score = -1;  // dropped (validated scores are > 0)
+      continue;
+    }
+    ClaimEdges(in, e, &claims);
+  }
+  claims.Clear();
+  int n = 0;
+  for (int i = 0; i < kept; ++i) {
+    if (candidates[i].ellipse.score >= 0) candidates[n++] = candidates[i];
+  }
+  return n;
 }
 
 Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
@@ -270,10 +352,11 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const auto t4 = Clock::now();
 
   // Clustering (sec. II-D-3) of the candidates with edge coverage (our addition,
-  // fit/edge_coverage.h), then the outer rims.
-  const CoverageCheck coverage(EdgeView(), options.min_edge_coverage);
-  const int kept = ClusterCandidates(&candidates, options, options.min_edge_coverage > 0 ? &coverage : nullptr);
+  // fit/edge_coverage.h), then the outer rims, then the exclusive edge support.
+  const CoverageCheck check(EdgeView(), options);
+  int kept = ClusterCandidates(&candidates, options, &check);
   CompleteOuterRims(kept, &gs);
+  kept = KeepExclusivelySupported(kept);
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);

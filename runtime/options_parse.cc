@@ -60,6 +60,9 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"cluster_outer_margin", &Options::cluster_outer_margin},
       {"rim_min_coverage", &Options::rim_min_coverage},
       {"min_edge_coverage", &Options::min_edge_coverage},
+      {"min_exclusive_coverage", &Options::min_exclusive_coverage},
+      {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
+      {"min_axis_ratio", &Options::min_axis_ratio},
   };
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},
@@ -75,8 +78,14 @@ Status SetOption(const std::string& assignment, Options* o) {
   for (const IntField& f : ints) {
     if (name == f.name) return ParseInt(value, &(o->*f.field)) ? Status::Ok() : bad("an integer");
   }
-  if (name == "gaussian_blur") return ParseBool(value, &o->gaussian_blur) ? Status::Ok() : bad("true or false");
-  if (name == "refine_fit") return ParseBool(value, &o->refine_fit) ? Status::Ok() : bad("true or false");
+  struct BoolField { const char* name; bool Options::*field; };
+  static const BoolField bools[] = {
+      {"gaussian_blur", &Options::gaussian_blur}, {"refine_fit", &Options::refine_fit},
+      {"pair_candidates", &Options::pair_candidates}, {"cluster_pick_best_fit", &Options::cluster_pick_best_fit},
+  };
+  for (const BoolField& f : bools) {
+    if (name == f.name) return ParseBool(value, &(o->*f.field)) ? Status::Ok() : bad("true or false");
+  }
   if (name == "simd_target") {
     o->simd_target = value;  // checked against the available targets when a Detector is created
     return Status::Ok();

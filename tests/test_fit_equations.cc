@@ -343,7 +343,8 @@ TEST(FitClustering, KeepsTheBestOfNearDuplicatesAndFarApartOnes) {
 TEST(FitClustering, CheckLeavesFailingCandidatesOut) {
   struct RejectScore final : CandidateCheck {
     double bad;
-    bool Passes(const Ellipse& e) const override { return e.score != bad; }
+    bool Passes(const Candidate& c) const override { return c.ellipse.score != bad; }
+    double FitShare(const Candidate&, double) const override { return 0; }  // never picks a member
   };
   Options o;
   const std::vector<Candidate> all = [] {

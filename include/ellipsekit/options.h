@@ -117,10 +117,33 @@ struct Options {
   // edcircles_mini 0.843 / 0.843 / 0.843 / 0.785 / 0.737 / 0.609, su2019_coin 0.655 / 0.659 / 0.659
   // / 0.647 / 0.651 / 0.613: 0.7 is the highest that loses no true detection on the real images.
   double min_edge_coverage = 0.7;
+  // Our addition: after clustering, the kept ellipses claim the edge pixels along their outlines
+  // (best edge coverage first, fit/edge_coverage.h); one whose coverage by still unclaimed edges
+  // is below this is dropped: two ellipses cannot both be made of the same edges (a cup's rim
+  // and an ellipse through part of it and the cup's inside). 0 turns it off.
+  double min_exclusive_coverage = 0.5;
+  // Our addition: a cluster is represented by the member whose outline the edge map backs most
+  // tightly (fit/edge_coverage.h FineEdgeCoverage: edge pixels within 1 px), with the score of
+  // the best-scoring member. Score (K + psi) only sees the group's own arcs: a top's upper arcs
+  // with the lower edge of a band on the can's side score as well as the top itself.
+  bool cluster_pick_best_fit = true;
   // Our addition: refit each candidate by least squares on its arcs' points before validation;
   // a refitted ellipse must then reach psi > refined_circumference_ratio instead of T_psi.
   bool refine_fit = true;
   double refined_circumference_ratio = 0.9;
+  // Our addition (needs refine_fit): two-arc groups become candidates too, refitted and validated
+  // like triplets (Gamma, K, psi), then held to pair_min_edge_coverage instead of
+  // min_edge_coverage. Pairs are the paper's (consecutive quadrants, sec. II-B-3) and opposite
+  // ones (I with III below-left of it, II with IV below-right of it, mid-points within 4 arc
+  // extents). A small or flat top often yields only two arcs of >= T_n points, and a top whose
+  // other arcs run on into the cylinder's side lines (tangent at the rim's ends, so no turning
+  // point splits them) only two clean ones. Measured in README.
+  bool pair_candidates = true;
+  double pair_min_edge_coverage = 0.9;
+  // Our addition: a fitted ellipse with b / a below this is rejected. 0.15 is a circle seen
+  // ~81 degrees off its axis; no ground-truth ellipse of the shared datasets or the generated
+  // scenes is flatter than 0.2, while the stripes of a textured table fit long, flat ones.
+  double min_axis_ratio = 0.15;
 
   // ---- caps (bounded work): when one is hit, DetectionResult::caps_hit says which
   int max_arcs = 4096;              // arcs kept per frame (longest first)
