@@ -150,4 +150,29 @@ double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat)
   return static_cast<double>(hits) / kFineSamples;
 }
 
+int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, EdgeClaims* seen,
+                   std::vector<std::int32_t>* xs, std::vector<std::int32_t>* ys) {
+  const Outline outline(e);
+  xs->clear();
+  ys->clear();
+  for (int i = 0; i < kSamples; ++i) {
+    const Outline::Sample p = outline.At(i);
+    if (!InReach(p, in)) continue;
+    const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
+    for (int y = y0 - 1; y <= y0 + 1; ++y) {
+      for (int x = x0 - 1; x <= x0 + 1; ++x) {
+        if (!EdgeAlong(in, x, y, p.nx, p.ny) || !outline.Within(x, y, distance)) continue;
+        const std::int32_t index = y * in.width + x;
+        if (seen->mask[index] != 0) continue;
+        seen->mask[index] = 1;
+        seen->claimed.push_back(index);
+        xs->push_back(x);
+        ys->push_back(y);
+      }
+    }
+  }
+  seen->Clear();
+  return static_cast<int>(xs->size());
+}
+
 }  // namespace ellipsekit

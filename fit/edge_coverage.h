@@ -46,4 +46,9 @@ void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims);
 // In [0, 1]. Stops once `to_beat` is out of reach and returns a value <= to_beat then.
 double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat = -1);
 
+// The edge pixels (each once) within `distance` px of e, near its 256 samples, gradient along the
+// normal: into xs, ys. `seen` is used as scratch and left clear.
+int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, EdgeClaims* seen,
+                   std::vector<std::int32_t>* xs, std::vector<std::int32_t>* ys);
+
 }  // namespace ellipsekit

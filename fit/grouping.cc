@@ -182,10 +182,17 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
 }
 
 // Two-arc candidates (Options::pair_candidates): the position-tested pairs of consecutive
-// quadrants, then opposite ones (capped like them, a quarter of max_pairs per kind).
+// quadrants, then opposite ones (capped like them, a quarter of max_pairs per kind); at most
+// max_triplets pairs are examined (a cap of their own, reported as max_triplets).
 void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                        GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
+  int examined = 0;
   auto add = [&](int first, int second) {
+    if (examined >= options.max_triplets) {
+      stats->caps_hit |= kCapTriplets;
+      return false;
+    }
+    ++examined;
     Ellipse e;
     if (!PairCandidate(curves, arcs[first], arcs[second], options, &e)) return true;
     if (static_cast<int>(candidates->size()) >= options.max_candidates) {

@@ -14,6 +14,7 @@
 #include "fit/curve_tracing.h"
 #include "fit/rim_search.h"
 #include "fit/edge_coverage.h"
+#include "fit/edge_refit.h"
 #include "fit/grouping.h"
 #include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
@@ -165,9 +166,11 @@ struct Detector::Impl {
   std::vector<Arc> arcs;
   GroupScratch groups;
   std::vector<Candidate> candidates;
-  EdgeClaims claims;                          // Options::min_exclusive_coverage
+  EdgeClaims claims;  // Options::min_exclusive_coverage; scratch of RefitToEdges
+  EdgeRefitScratch refit_scratch;
   std::vector<std::pair<double, int>> by_coverage;
   std::vector<Box> boxes;
+  std::vector<std::uint8_t> dropped;
 
   void Resize(int w, int h) {
     if (w == width && h == height) return;
@@ -176,6 +179,7 @@ struct Detector::Impl {
     const std::size_t n = static_cast<std::size_t>(w) * h;
     blurred.resize(n); nms.resize(n); edge_map.resize(n);
     claims.Resize(w, h);
+    refit_scratch.Reserve();
     dx.resize(n); dy.resize(n); mag.resize(n);
     hist.resize(kMaxMagnitude + 1);
     stack.resize(n);
@@ -199,12 +203,14 @@ struct Detector::Impl {
     candidates.reserve(ReserveFor(options.max_candidates));
     by_coverage.reserve(ReserveFor(options.max_candidates));
     boxes.reserve(ReserveFor(options.max_candidates));
+    dropped.reserve(ReserveFor(options.max_candidates));
     groups.Reserve(n, options);
   }
 
   Status Detect(const ImageView& image, DetectionResult* result);
   void CompleteOuterRims(int kept, GroupStats* stats);
   int KeepExclusivelySupported(int kept);
+
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 
@@ -261,6 +267,7 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   boxes.clear();
   for (int i = 0; i < kept; ++i) boxes.push_back(BoundingBox(candidates[i].ellipse, kClaimReach));
   by_coverage.clear();
+  dropped.assign(static_cast<std::size_t>(kept), 0);
   for (int i = 0; i < kept; ++i) {
     bool near_another = false;
     for (int j = 0; j < kept && !near_another; ++j) near_another = j != i && boxes[i].Intersects(boxes[j]);
@@ -270,7 +277,7 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   for (const auto& [negative_coverage, i] : by_coverage) {
     const Ellipse& e = candidates[i].ellipse;
     if (EdgeCoverage(in, e, options.min_exclusive_coverage, &claims) < options.min_exclusive_coverage) {
-      candidates[i].ellipse.score = -1;  // dropped (validated scores are > 0)
+      dropped[i] = 1;
       continue;
     }
     ClaimEdges(in, e, &claims);
@@ -278,7 +285,7 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   claims.Clear();
   int n = 0;
   for (int i = 0; i < kept; ++i) {
-    if (candidates[i].ellipse.score >= 0) candidates[n++] = candidates[i];
+    if (!dropped[i]) candidates[n++] = candidates[i];
   }
   return n;
 }
@@ -352,11 +359,15 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   const auto t4 = Clock::now();
 
   // Clustering (sec. II-D-3) of the candidates with edge coverage (our addition,
-  // fit/edge_coverage.h), then the outer rims, then the exclusive edge support.
+  // fit/edge_coverage.h), then the outer rims, the exclusive edge support and the refit to the
+  // edges (fit/edge_refit.h).
   const CoverageCheck check(EdgeView(), options);
   int kept = ClusterCandidates(&candidates, options, &check);
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);
+  if (options.refit_to_edges) {
+    for (int i = 0; i < kept; ++i) RefitToEdges(EdgeView(), &candidates[i].ellipse, &claims, &refit_scratch);
+  }
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);

@@ -82,6 +82,7 @@ Status SetOption(const std::string& assignment, Options* o) {
   static const BoolField bools[] = {
       {"gaussian_blur", &Options::gaussian_blur}, {"refine_fit", &Options::refine_fit},
       {"pair_candidates", &Options::pair_candidates}, {"cluster_pick_best_fit", &Options::cluster_pick_best_fit},
+      {"refit_to_edges", &Options::refit_to_edges},
   };
   for (const BoolField& f : bools) {
     if (name == f.name) return ParseBool(value, &(o->*f.field)) ? Status::Ok() : bad("true or false");

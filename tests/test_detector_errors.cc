@@ -102,6 +102,10 @@ TEST(DetectorErrors, EachInvalidOptionIsNamed) {
       {"cluster_relative", [](Options* o) { o->cluster_relative = 2; }},
       {"min_edge_coverage", [](Options* o) { o->min_edge_coverage = 1.5; }},
       {"min_edge_coverage", [&](Options* o) { o->min_edge_coverage = nan; }},
+      {"min_exclusive_coverage", [](Options* o) { o->min_exclusive_coverage = 1.1; }},
+      {"pair_min_edge_coverage", [&](Options* o) { o->pair_min_edge_coverage = nan; }},
+      {"min_axis_ratio", [](Options* o) { o->min_axis_ratio = -0.1; }},
+      {"min_axis_ratio", [](Options* o) { o->min_axis_ratio = 2; }},
       {"rim_min_coverage", [](Options* o) { o->rim_min_coverage = -0.5; }},
       {"rim_min_coverage", [&](Options* o) { o->rim_min_coverage = nan; }},
       {"max_arcs", [](Options* o) { o->max_arcs = 0; }},
@@ -142,6 +146,16 @@ TEST(DetectorErrors, SetOption) {
   EXPECT_EQ(o.backend, Backend::kScalar);
   EXPECT_TRUE(SetOption("max_arcs=12", &o).ok());
   EXPECT_EQ(o.max_arcs, 12);
+  EXPECT_TRUE(SetOption("pair_candidates=false", &o).ok());
+  EXPECT_FALSE(o.pair_candidates);
+  EXPECT_TRUE(SetOption("cluster_pick_best_fit=false", &o).ok());
+  EXPECT_FALSE(o.cluster_pick_best_fit);
+  EXPECT_TRUE(SetOption("min_exclusive_coverage=0.25", &o).ok());
+  EXPECT_EQ(o.min_exclusive_coverage, 0.25);
+  EXPECT_TRUE(SetOption("pair_min_edge_coverage=0.8", &o).ok());
+  EXPECT_EQ(o.pair_min_edge_coverage, 0.8);
+  EXPECT_TRUE(SetOption("min_axis_ratio=0", &o).ok());
+  EXPECT_EQ(o.min_axis_ratio, 0);
 
   Status st = SetOption("no_such_option=3", &o);
   EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
@@ -152,7 +166,7 @@ TEST(DetectorErrors, SetOption) {
   EXPECT_TRUE(Mentions(st, "NAME=VALUE")) << st.message();
   for (const char* bad : {"split_angle_deg=abc", "split_angle_deg=", "split_angle_deg=3x", "max_arcs=1.5",
                           "max_arcs=99999999999", "refine_fit=maybe", "backend=cuda", "center_method=foo",
-                          "obb_rule=x", "inlier_rule=geometric", "cluster_rule=none"}) {
+                          "obb_rule=x", "inlier_rule=geometric", "cluster_rule=none", "pair_candidates=2"}) {
     st = SetOption(bad, &o);
     EXPECT_EQ(st.code(), StatusCode::kInvalidArgument) << bad;
     EXPECT_TRUE(Mentions(st, "bad value")) << bad << ": " << st.message();

@@ -373,6 +373,54 @@ TEST(FitClustering, CheckLeavesFailingCandidatesOut) {
   EXPECT_DOUBLE_EQ(top[0].ellipse.a, 40);
 }
 
+// Options::cluster_pick_best_fit: the member with the best FitShare represents its cluster with
+// the reference's score; rims of the reference are never that member, and only the best-scoring
+// members are tried (fit/clustering.cc kFitTries, 6).
+TEST(FitClustering, BestFittingMemberRepresentsItsCluster) {
+  struct PreferB final : CandidateCheck {
+    bool Passes(const Candidate&) const override { return true; }
+    double FitShare(const Candidate& c, double) const override { return c.ellipse.b == 33 ? 0.9 : c.ellipse.b == 35 ? 1.0 : 0.5; }
+  };
+  const PreferB check;
+  Options o;
+  std::vector<Candidate> c(3);
+  c[0].ellipse = Make(100, 100, 40, 30, 0.0, 2.0);   // reference: best score
+  c[1].ellipse = Make(101, 103, 40, 33, 0.0, 1.9);   // the edges back this one best
+  c[2].ellipse = Make(400, 300, 40, 30, 0.0, 1.2);
+  std::vector<Candidate> picked = c;
+  ASSERT_EQ(ClusterCandidates(&picked, o, &check), 2);
+  EXPECT_DOUBLE_EQ(picked[0].ellipse.b, 33);
+  EXPECT_DOUBLE_EQ(picked[0].ellipse.cy, 103);
+  EXPECT_DOUBLE_EQ(picked[0].ellipse.score, 2.0) << "the cluster keeps its best score";
+  o.cluster_pick_best_fit = false;
+  std::vector<Candidate> by_score = c;
+  ASSERT_EQ(ClusterCandidates(&by_score, o, &check), 2);
+  EXPECT_DOUBLE_EQ(by_score[0].ellipse.b, 30);
+  o.cluster_pick_best_fit = true;
+
+  // An outer rim of the reference (1.15x, too weak a score to be chosen as its rim) fits best,
+  // but is another ellipse: not the representative.
+  std::vector<Candidate> rim(2);
+  rim[0].ellipse = Make(200, 150, 40, 30, 0.3, 1.9);
+  rim[1].ellipse = Make(200.5, 150.5, 46, 34.5, 0.3, 1.0);
+  struct PreferLarger final : CandidateCheck {
+    bool Passes(const Candidate&) const override { return true; }
+    double FitShare(const Candidate& c, double) const override { return c.ellipse.a > 45 ? 1.0 : 0.5; }
+  };
+  const PreferLarger larger;
+  ASSERT_EQ(ClusterCandidates(&rim, o, &larger), 1);
+  EXPECT_DOUBLE_EQ(rim[0].ellipse.a, 40);
+
+  // Eight members behind the reference, the best fit (b == 35) last by score: not tried.
+  std::vector<Candidate> many(9);
+  for (int i = 0; i < 9; ++i) many[i].ellipse = Make(100 + 0.5 * i, 100, 40, i == 8 ? 35 : 30 + 0.1 * i, 0.0, 2.0 - 0.05 * i);
+  ASSERT_EQ(ClusterCandidates(&many, o, &check), 1);
+  EXPECT_LT(many[0].ellipse.b, 35);
+  for (int i = 0; i < 9; ++i) many[i].ellipse = Make(100 + 0.5 * i, 100, 40, i == 8 ? 35 : 30 + 0.1 * i, 0.0, i == 8 ? 1.97 : 2.0 - 0.05 * i);
+  ASSERT_EQ(ClusterCandidates(&many, o, &check), 1);
+  EXPECT_DOUBLE_EQ(many[0].ellipse.b, 35);
+}
+
 TEST(FitClustering, OuterRimRepresentsItsNestedLip) {
   // A can top: the lip (inner, best score) and the rim 1.15x larger, concentric, same shape.
   const Ellipse lip = Make(200, 150, 40, 25, 0.3, 1.9);

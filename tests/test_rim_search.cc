@@ -1,6 +1,7 @@
 // The edge-map checks of the fit back end on synthetic edge maps with known rings: outer-rim
 // completion (fit/rim_search.h), also end to end through the Detector on a drawn lid whose outer
-// rim has contrast over only part of its length, and edge coverage (fit/edge_coverage.h).
+// rim has contrast over only part of its length, and edge coverage, claims and fine coverage
+// (fit/edge_coverage.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +14,7 @@
 
 #include "ellipsekit/detector.h"
 #include "fit/edge_coverage.h"
+#include "fit/edge_refit.h"
 #include "fit/rim_search.h"
 
 namespace {
@@ -136,32 +138,45 @@ TEST(RimSearch, EllipsesAtOrBeyondTheBorderAreSafe) {
 // outer rim's arcs lie in two quadrants, too few for a triplet, so only the inner edge is a
 // candidate; the search, asked for half the angle, completes the outer rim.
 TEST(RimSearch, DetectorReportsTheOuterRimOfADrawnLid) {
-  cv::Mat img(240, 320, CV_8UC1, cv::Scalar(110));
+  // The outer rim has contrast over half its length: as one half along the major axis (cv::ellipse
+  // angles 0-180), or as two opposite quarters (0-90 and 180-270).
   const cv::Point centre(160, 120);
   const cv::Size outer(70, 45), inner(56, 36);  // 1.25x
-  cv::ellipse(img, centre, outer, 20, 0, 180, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
-  cv::ellipse(img, centre, inner, 20, 0, 360, cv::Scalar(40), cv::FILLED, cv::LINE_AA);
-  ellipsekit::ImageView view{img.data, img.cols, img.rows, static_cast<std::ptrdiff_t>(img.step[0])};
-  auto run = [&](double coverage) {
+  auto draw = [&](bool quarters) {
+    cv::Mat img(240, 320, CV_8UC1, cv::Scalar(110));
+    cv::ellipse(img, centre, outer, 20, 0, quarters ? 90 : 180, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
+    if (quarters) cv::ellipse(img, centre, outer, 20, 180, 270, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
+    cv::ellipse(img, centre, inner, 20, 0, 360, cv::Scalar(40), cv::FILLED, cv::LINE_AA);
+    return img;
+  };
+  auto run = [&](const cv::Mat& img, double coverage) {
     ellipsekit::Options o;
     o.rim_min_coverage = coverage;
     ellipsekit::Detector d(o);
     EXPECT_TRUE(d.status().ok());
     ellipsekit::DetectionResult r;
+    ellipsekit::ImageView view{img.data, img.cols, img.rows, static_cast<std::ptrdiff_t>(img.step[0])};
     EXPECT_TRUE(d.detect(view, &r).ok());
     EXPECT_EQ(r.caps_hit & ellipsekit::kCapRimSearch, 0u);
     return r.ellipses;
   };
-  const std::vector<Ellipse> without = run(2.0);  // search off
-  ASSERT_FALSE(without.empty());
-  EXPECT_NEAR(without[0].a, inner.width, 2.0) << "the inner edge is what the arcs give";
-  EXPECT_NEAR(run(0.6)[0].a, inner.width, 2.0) << "50 % coverage is below 0.6";
-  const std::vector<Ellipse> with = run(0.45);
-  ASSERT_FALSE(with.empty());
-  EXPECT_NEAR(with[0].a, outer.width, 2.0);
-  EXPECT_NEAR(with[0].b, outer.height, 2.0);
-  EXPECT_NEAR(with[0].cx, centre.x, 1.0);
-  EXPECT_NEAR(with[0].cy, centre.y, 1.0);
+  for (const bool quarters : {false, true}) {
+    SCOPED_TRACE(quarters ? "two quarters" : "one half");
+    const cv::Mat img = draw(quarters);
+    const std::vector<Ellipse> without = run(img, 2.0);  // search off
+    ASSERT_FALSE(without.empty());
+    EXPECT_NEAR(without[0].a, inner.width, 2.0) << "the inner edge is what the arcs give";
+    // 50 % coverage is below 0.6; one half backed over 90 % passes (kRimHalfCoverage).
+    const std::vector<Ellipse> at_06 = run(img, 0.6);
+    ASSERT_FALSE(at_06.empty());
+    EXPECT_NEAR(at_06[0].a, quarters ? inner.width : outer.width, 2.0);
+    const std::vector<Ellipse> with = run(img, 0.45);
+    ASSERT_FALSE(with.empty());
+    EXPECT_NEAR(with[0].a, outer.width, 2.0);
+    EXPECT_NEAR(with[0].b, outer.height, 2.0);
+    EXPECT_NEAR(with[0].cx, centre.x, 1.0);
+    EXPECT_NEAR(with[0].cy, centre.y, 1.0);
+  }
 }
 
 // Bounded work: the search scans at most ~2 frames' worth of pixels per frame, then stops and says
@@ -201,6 +216,98 @@ TEST(EdgeCoverage, IsTheShareOfTheOutlineWithNormalEdges) {
   Ellipse outside = Inner();
   outside.cx = -1000;
   EXPECT_EQ(ellipsekit::EdgeCoverage(full.Input(), outside), 0.0);
+}
+
+
+// A ring covered over one half (split along the major axis) passes the half rule (rim_search.h)
+// below min_coverage; the same 50 % as two opposite quarters does not.
+TEST(RimSearch, HalfBackedRingPassesBelowMinCoverage) {
+  EdgeFrame half_ring, quarters;
+  half_ring.Ring(Inner(), 1.2, 0, 0.5 * kTwoPi);
+  half_ring.Ring(Inner(), 1.0, 0, kTwoPi);
+  quarters.Ring(Inner(), 1.2, 0, 0.25 * kTwoPi);
+  quarters.Ring(Inner(), 1.2, 0.5 * kTwoPi, 0.75 * kTwoPi);
+  quarters.Ring(Inner(), 1.0, 0, kTwoPi);
+  Ellipse out;
+  long scanned = 0;
+  ASSERT_TRUE(ellipsekit::FindOuterRim(half_ring.Input(), Inner(), 0.6, &out, &scanned));
+  EXPECT_NEAR(out.a / Inner().a, 1.2, 0.02);
+  EXPECT_FALSE(ellipsekit::FindOuterRim(quarters.Input(), Inner(), 0.6, &out, &scanned));
+  EXPECT_TRUE(ellipsekit::FindOuterRim(quarters.Input(), Inner(), 0.45, &out, &scanned));
+}
+
+// Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;
+// a ring elsewhere keeps its coverage, and Clear() gives every edge back.
+TEST(EdgeCoverage, ClaimedEdgesAreLeftOut) {
+  EdgeFrame f;
+  Ellipse other = Inner();
+  other.a = 12;
+  other.b = 8;
+  other.cx = 170;
+  other.cy = 25;
+  f.Ring(Inner(), 1.0, 0, kTwoPi);
+  f.Ring(other, 1.0, 0, kTwoPi);
+  ellipsekit::EdgeClaims claims;
+  claims.Resize(kW, kH);
+  ellipsekit::ClaimEdges(f.Input(), Inner(), &claims);
+  EXPECT_FALSE(claims.claimed.empty());
+  EXPECT_EQ(ellipsekit::EdgeCoverage(f.Input(), Inner(), 0, &claims), 0.0);
+  Ellipse off = Inner();
+  off.cx += 1;
+  off.cy -= 0.7;
+  EXPECT_GE(ellipsekit::EdgeCoverage(f.Input(), off), 0.9) << "backed by the ring when nothing is claimed";
+  EXPECT_LE(ellipsekit::EdgeCoverage(f.Input(), off, 0, &claims), 0.05);
+  EXPECT_GE(ellipsekit::EdgeCoverage(f.Input(), other, 0, &claims), 0.98);
+  claims.Clear();
+  EXPECT_TRUE(claims.claimed.empty());
+  EXPECT_GE(ellipsekit::EdgeCoverage(f.Input(), Inner(), 0, &claims), 0.98);
+}
+
+// The fine coverage ranks the ellipse on the edges above one 1.5 px off (which the 3x3 coverage
+// cannot tell apart), and stops early once it cannot beat a given share.
+TEST(EdgeCoverage, FineCoverageRanksTheTighterFit) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.0, 0, kTwoPi);
+  Ellipse off = Inner();
+  off.a += 1.5;
+  off.b += 1.5;
+  const double on_ring = ellipsekit::FineEdgeCoverage(f.Input(), Inner());
+  const double beside = ellipsekit::FineEdgeCoverage(f.Input(), off);
+  EXPECT_GE(on_ring, 0.95);
+  EXPECT_LT(beside, on_ring - 0.3);
+  EXPECT_GE(ellipsekit::EdgeCoverage(f.Input(), off), 0.9) << "the 3x3 coverage backs both";
+  EXPECT_LE(ellipsekit::FineEdgeCoverage(f.Input(), off, on_ring), on_ring);
+  EXPECT_EQ(ellipsekit::FineEdgeCoverage(f.Input(), Inner(), 0.5), on_ring) << "a better one is counted in full";
+}
+
+// The refit to the edges (fit/edge_refit.h) moves an ellipse a pixel off a ring onto it, and leaves
+// alone one too far off to be backed by that ring.
+TEST(EdgeRefit, SnapsAnEllipseOntoItsRing) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.0, 0, kTwoPi);
+  ellipsekit::EdgeClaims seen;
+  seen.Resize(kW, kH);
+  ellipsekit::EdgeRefitScratch scratch;
+  scratch.Reserve();
+  Ellipse off = Inner();
+  off.cx += 0.8;
+  off.cy -= 0.6;
+  off.a += 0.7;
+  ASSERT_TRUE(ellipsekit::RefitToEdges(f.Input(), &off, &seen, &scratch));
+  EXPECT_NEAR(off.cx, Inner().cx, 0.25);
+  EXPECT_NEAR(off.cy, Inner().cy, 0.25);
+  EXPECT_NEAR(off.a, Inner().a, 0.3);
+  EXPECT_NEAR(off.b, Inner().b, 0.3);
+  EXPECT_NEAR(off.theta, Inner().theta, 0.02);
+  EXPECT_EQ(off.score, Inner().score);
+  EXPECT_TRUE(seen.claimed.empty()) << "the scratch is left clear";
+  Ellipse far = Inner();
+  far.a *= 1.2;
+  far.b *= 1.2;
+  const Ellipse before = far;
+  EXPECT_FALSE(ellipsekit::RefitToEdges(f.Input(), &far, &seen, &scratch));
+  EXPECT_EQ(far.a, before.a);
+  EXPECT_EQ(far.cx, before.cx);
 }
 
 }  // namespace

@@ -127,6 +127,9 @@ struct Options {
   // the best-scoring member. Score (K + psi) only sees the group's own arcs: a top's upper arcs
   // with the lower edge of a band on the can's side score as well as the top itself.
   bool cluster_pick_best_fit = true;
+  // Our addition: each detected ellipse is finally refitted to the edge pixels along its whole
+  // outline (fit/edge_refit.h), not only to its group's two or three arcs.
+  bool refit_to_edges = true;
   // Our addition: refit each candidate by least squares on its arcs' points before validation;
   // a refitted ellipse must then reach psi > refined_circumference_ratio instead of T_psi.
   bool refine_fit = true;
@@ -150,8 +153,9 @@ struct Options {
   // Measured need (200 generated scenes + the 30 shared dataset images): at most 1475 pairs and
   // 1583 triplets in a frame; 200 concentric circles put every triplet within T_c and would need
   // 50000+. The caps leave real frames ~3x headroom and bound the worst case.
-  int max_pairs = 20000;            // arc pairs that pass the position test (a quarter per kind)
-  int max_triplets = 5000;          // triplets examined
+  int max_pairs = 20000;            // arc pairs that pass the position test (a quarter per kind;
+                                    // the two opposite kinds of pair_candidates a quarter each too)
+  int max_triplets = 5000;          // triplets examined; and, separately, two-arc groups examined
   int max_candidates = 5000;        // ellipse candidates validated
   int max_mean_shift_iterations = 20;
   int max_image_pixels = 1 << 26;   // 64 Mpx; larger frames are an error

@@ -1,0 +1,36 @@
+#include "fit/edge_refit.h"
+
+#include "fit/arc.h"
+#include "fit/clustering.h"
+#include "fit/conic_refine.h"
+#include "fit/point_moments.h"
+
+namespace ellipsekit {
+
+namespace {
+constexpr int kMaxPoints = 256 * 9;  // EdgePointsNear: 256 samples x a 3x3 neighbourhood
+constexpr int kMinPoints = 12;
+}  // namespace
+
+void EdgeRefitScratch::Reserve() {
+  x.reserve(kMaxPoints);
+  y.reserve(kMaxPoints);
+}
+
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeClaims* seen, EdgeRefitScratch* scratch) {
+  const double share = FineEdgeCoverage(in, *e);
+  if (share < kEdgeRefitMinShare) return false;
+  const int n = EdgePointsNear(in, *e, kEdgeRefitDistance, seen, &scratch->x, &scratch->y);
+  if (n < kMinPoints) return false;
+  Arc points;  // RefineEllipse reads only the moments
+  points.moments = MomentsOfPoints(scratch->x.data(), scratch->y.data(), 0, n - 1, scratch->x[0], scratch->y[0]);
+  const Arc* group[1] = {&points};
+  Ellipse refit = *e;
+  if (!RefineEllipse(group, 1, &refit)) return false;
+  if (!(FeatureDistance(refit, *e) < 0.2 * e->b + 1)) return false;
+  if (FineEdgeCoverage(in, refit) < share) return false;
+  *e = refit;
+  return true;
+}
+
+}  // namespace ellipsekit

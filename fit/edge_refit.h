@@ -1,0 +1,32 @@
+// Refit to the edges, our addition: the last step of a detection. A candidate's ellipse is fitted
+// to its group's arcs (two or three of them, conic_refine.h); once the clustering has chosen it,
+// the edge map around its whole outline says more: every edge pixel within kEdgeRefitDistance px
+// of it whose gradient lies along its normal (fit/edge_coverage.h EdgePointsNear) is fitted again
+// by the same direct least-squares fit. Only an ellipse whose outline the edges back closely over
+// most of its length (FineEdgeCoverage >= kEdgeRefitMinShare) is refitted: points along a part
+// of an outline constrain the rest poorly. The refit replaces the ellipse only when it stays
+// close (feature distance, eq. 17, below 0.2 b + 1 px) and the edges back it at least as tightly. Measured in README (generated scenes, and circle poses on rendered cans).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "ellipsekit/types.h"
+#include "fit/edge_coverage.h"
+#include "fit/edge_map_view.h"
+
+namespace ellipsekit {
+
+inline constexpr double kEdgeRefitDistance = 1.5;  // px
+inline constexpr double kEdgeRefitMinShare = 0.75;
+
+struct EdgeRefitScratch {
+  std::vector<std::int32_t> x, y;  // at most 256 x 9 points
+  void Reserve();
+};
+
+// Refits *e in place (keeping its score); false when it was left as it was. `seen` is scratch: a
+// frame-sized EdgeClaims with nothing claimed, left so. No allocation once scratch is reserved.
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeClaims* seen, EdgeRefitScratch* scratch);
+
+}  // namespace ellipsekit
