@@ -57,6 +57,15 @@ struct Outline {
   }
 };
 
+// The stride through the 256 samples that keeps consecutive ones about `spacing` px apart along
+// the outline (Ramanujan's perimeter): a small ellipse needs far fewer than 256.
+int SampleStep(const Ellipse& e, double spacing) {
+  const double h = (e.a - e.b) * (e.a - e.b) / ((e.a + e.b) * (e.a + e.b));
+  const double perimeter = std::numbers::pi * (e.a + e.b) * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
+  if (!(perimeter < kSamples * spacing)) return 1;
+  return std::max(1, static_cast<int>(kSamples * spacing / std::max(perimeter, 1.0)));
+}
+
 // Nearest integer, halves up (in reach of the frame, so no overflow); inline, unlike std::lround.
 int RoundToInt(double v) { return static_cast<int>(std::floor(v + 0.5)); }
 
@@ -107,13 +116,8 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share, c
 
 void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims) {
   const Outline outline(e);
-  // Samples about kClaimRadius px apart (Ramanujan's perimeter) are enough for the 5x5
-  // neighbourhoods to overlap; a small ellipse needs far fewer than 256.
-  const double h = (e.a - e.b) * (e.a - e.b) / ((e.a + e.b) * (e.a + e.b));
-  const double perimeter = std::numbers::pi * (e.a + e.b) * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
-  const int step = perimeter < kSamples * kClaimRadius
-                       ? std::max(1, static_cast<int>(kSamples * kClaimRadius / std::max(perimeter, 1.0)))
-                       : 1;
+  // Samples about kClaimRadius px apart are enough for the 5x5 neighbourhoods to overlap.
+  const int step = SampleStep(e, kClaimRadius);
   for (int i = 0; i < kSamples; i += step) {
     const Outline::Sample p = outline.At(i);
     if (!InReach(p, in)) continue;
@@ -155,7 +159,9 @@ int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, Edg
   const Outline outline(e);
   xs->clear();
   ys->clear();
-  for (int i = 0; i < kSamples; ++i) {
+  // Samples about 1 px apart are enough for the 3x3 neighbourhoods to overlap.
+  const int step = SampleStep(e, 1);
+  for (int i = 0; i < kSamples; i += step) {
     const Outline::Sample p = outline.At(i);
     if (!InReach(p, in)) continue;
     const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
