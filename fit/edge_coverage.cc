@@ -73,9 +73,23 @@ bool InReach(const Outline::Sample& p, const EdgeMapView& in) {
   return p.px > -3 && p.px < in.width + 2 && p.py > -3 && p.py < in.height + 2;
 }
 
-// Whether pixel (x, y) is an edge pixel (inside the frame) with its gradient along (nx, ny).
-bool EdgeAlong(const EdgeMapView& in, int x, int y, double nx, double ny) {
-  if (x < 0 || x >= in.width || y < 0 || y >= in.height || in.edge_map[y * in.stride + x] == 0) return false;
+// Calls visit(x, y) for each edge pixel of the (2 r + 1)^2 window around (x0, y0), clipped to the
+// frame, row by row, until it returns true; returns whether one did.
+template <typename Visit>
+bool VisitEdgesAround(const EdgeMapView& in, int x0, int y0, int r, Visit visit) {
+  const int xa = std::max(x0 - r, 0), xb = std::min(x0 + r, in.width - 1);
+  const int ya = std::max(y0 - r, 0), yb = std::min(y0 + r, in.height - 1);
+  for (int y = ya; y <= yb; ++y) {
+    const std::uint8_t* row = in.edge_map + y * in.stride;
+    for (int x = xa; x <= xb; ++x) {
+      if (row[x] != 0 && visit(x, y)) return true;
+    }
+  }
+  return false;
+}
+
+// Whether the gradient at (x, y), inside the frame, lies along (nx, ny).
+bool GradientAlong(const EdgeMapView& in, int x, int y, double nx, double ny) {
   return GradientAlongNormal(in.dx[y * in.grad_stride + x], in.dy[y * in.grad_stride + x], nx, ny);
 }
 
@@ -103,11 +117,9 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share, c
       const Outline::Sample p = outline.At(sector * kSamplesPerSector + k);
       if (!InReach(p, in)) continue;
       const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-      for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
-        for (int x = x0 - 1; x <= x0 + 1 && !hit; ++x) {
-          hit = EdgeAlong(in, x, y, p.nx, p.ny) && (exclude == nullptr || exclude->mask[y * in.width + x] == 0);
-        }
-      }
+      hit = VisitEdgesAround(in, x0, y0, 1, [&](int x, int y) {
+        return GradientAlong(in, x, y, p.nx, p.ny) && (exclude == nullptr || exclude->mask[y * in.width + x] == 0);
+      });
     }
     covered += hit;
   }
@@ -122,15 +134,14 @@ void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims) {
     const Outline::Sample p = outline.At(i);
     if (!InReach(p, in)) continue;
     const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-    for (int y = y0 - kClaimRadius; y <= y0 + kClaimRadius; ++y) {
-      for (int x = x0 - kClaimRadius; x <= x0 + kClaimRadius; ++x) {
-        if (!EdgeAlong(in, x, y, p.nx, p.ny)) continue;
-        const std::int32_t index = y * in.width + x;
-        if (claims->mask[index] != 0) continue;
+    VisitEdgesAround(in, x0, y0, kClaimRadius, [&](int x, int y) {
+      const std::int32_t index = y * in.width + x;
+      if (claims->mask[index] == 0 && GradientAlong(in, x, y, p.nx, p.ny)) {
         claims->mask[index] = 1;
         claims->claimed.push_back(index);
       }
-    }
+      return false;
+    });
   }
 }
 
@@ -143,13 +154,9 @@ double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat)
     const Outline::Sample p = outline.At(i * (kSamples / kFineSamples) + kSamples / kFineSamples / 2);
     if (!InReach(p, in)) continue;
     const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-    bool hit = false;
-    for (int y = y0 - 1; y <= y0 + 1 && !hit; ++y) {
-      for (int x = x0 - 1; x <= x0 + 1 && !hit; ++x) {
-        hit = EdgeAlong(in, x, y, p.nx, p.ny) && outline.Within(x, y, kFineDistance);
-      }
-    }
-    hits += hit;
+    hits += VisitEdgesAround(in, x0, y0, 1, [&](int x, int y) {
+      return GradientAlong(in, x, y, p.nx, p.ny) && outline.Within(x, y, kFineDistance);
+    });
   }
   return static_cast<double>(hits) / kFineSamples;
 }
@@ -165,17 +172,16 @@ int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, Edg
     const Outline::Sample p = outline.At(i);
     if (!InReach(p, in)) continue;
     const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-    for (int y = y0 - 1; y <= y0 + 1; ++y) {
-      for (int x = x0 - 1; x <= x0 + 1; ++x) {
-        if (!EdgeAlong(in, x, y, p.nx, p.ny) || !outline.Within(x, y, distance)) continue;
-        const std::int32_t index = y * in.width + x;
-        if (seen->mask[index] != 0) continue;
+    VisitEdgesAround(in, x0, y0, 1, [&](int x, int y) {
+      const std::int32_t index = y * in.width + x;
+      if (seen->mask[index] == 0 && GradientAlong(in, x, y, p.nx, p.ny) && outline.Within(x, y, distance)) {
         seen->mask[index] = 1;
         seen->claimed.push_back(index);
         xs->push_back(x);
         ys->push_back(y);
       }
-    }
+      return false;
+    });
   }
   seen->Clear();
   return static_cast<int>(xs->size());
