@@ -10,7 +10,11 @@
 // exactly the paper's four kinds (I,II,III), (II,III,IV), (III,IV,I), (IV,I,II); its two pair
 // centres must lie within T_c. Then: the triplet centre, Gamma < T_f (midpoint distances),
 // parameters (eqs. 8-12), optionally refitted (conic_refine.h), K(tau) > T_l and psi > T_psi
-// (refined_circumference_ratio for a refitted ellipse). 
+// (refined_circumference_ratio for a refitted ellipse).
+// Our addition, Options::pair_candidates (with the refit): after the triplets, each position-tested
+// pair, and each pair of opposite quadrants placed as an ellipse puts them (III below-left of I,
+// IV below-right of II, 1 px tolerance), both with mid-points within 3 arc extents, is refitted
+// and validated the same way (Gamma, K, psi) as a two-arc candidate (Candidate::FromPair).
 #pragma once
 
 #include <vector>
