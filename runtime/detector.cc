@@ -41,7 +41,6 @@ Box BoundingBox(const Ellipse& e, double margin) {
   return {e.cx - hx, e.cy - hy, e.cx + hx, e.cy + hy};
 }
 
-
 using Clock = std::chrono::steady_clock;
 
 double Ms(Clock::time_point a, Clock::time_point b) {
@@ -210,7 +209,6 @@ struct Detector::Impl {
   Status Detect(const ImageView& image, DetectionResult* result);
   void CompleteOuterRims(int kept, GroupStats* stats);
   int KeepExclusivelySupported(int kept);
-
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 
