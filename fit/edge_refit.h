@@ -5,7 +5,8 @@
 // by the same direct least-squares fit. Only an ellipse whose outline the edges back closely over
 // most of its length (FineEdgeCoverage >= kEdgeRefitMinShare) is refitted: points along a part
 // of an outline constrain the rest poorly. The refit replaces the ellipse only when it stays
-// close (feature distance, eq. 17, below 0.2 b + 1 px) and the edges back it at least as tightly. Measured in README (generated scenes, and circle poses on rendered cans).
+// close (feature distance, eq. 17, below 0.2 b + 1 px) and the edges back it at least as tightly.
+// Measured in README (generated scenes, and circle poses on rendered cans).
 #pragma once
 
 #include <cstdint>
