@@ -1,4 +1,6 @@
-// The fuzz entry shared by the libFuzzer target (fuzz_detect) and the corpus replay (fuzz_detect_replay).
+// The fuzz entries shared by the libFuzzer targets and their corpus replays:
+//   DetectOneInput      fuzz_detect, fuzz_detect_replay (fuzz_detect.cc)
+//   DetectCpuOneInput   fuzz_detect_cpu, fuzz_detect_cpu_replay (fuzz_detect_cpu.cc)
 #pragma once
 
 #include <cstddef>
@@ -12,5 +14,11 @@ namespace ellipsekit::fuzz {
 // one on the always-available scalar backend, an ellipse with non-finite or inconsistent fields.
 // Returns 0.
 int DetectOneInput(const std::uint8_t* data, std::size_t size);
+
+// CPU only (no Vulkan), small frames (at most 128 x 96), fast: decodes `data` into options and a
+// raw or drawn (ellipses, rings, a grid of dots) frame, runs the scalar and the SIMD backend on it
+// and aborts unless both agree bit for bit (ellipses and counts) and pass the checks above.
+// Returns 0.
+int DetectCpuOneInput(const std::uint8_t* data, std::size_t size);
 
 }  // namespace ellipsekit::fuzz

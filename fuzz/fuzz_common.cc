@@ -1,0 +1,113 @@
+// See fuzz_common.h.
+#include "fuzz/fuzz_common.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+namespace ellipsekit::fuzz {
+
+void Fail(const char* what, const Status& st) {
+  std::fprintf(stderr, "ellipsekit fuzz: invariant broken: %s (status %d: %s)\n", what, static_cast<int>(st.code()),
+               st.message().c_str());
+  std::abort();
+}
+
+void EditOption(int field, int v, Options* o) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double d = v / 64.0;  // fractional values for the double fields
+  switch (field % 30) {
+    case 0: o->gaussian_blur = (v & 1) != 0; break;
+    case 1: o->canny_high_permille = v; break;
+    case 2: o->canny_low_permille = v; break;
+    case 3: o->canny_min_high = v; break;
+    case 4: o->min_curve_points = v; break;
+    case 5: o->obb_rule = (v & 1) ? ObbRule::kSideRatio : ObbRule::kMinSide; o->obb_threshold = d; break;
+    case 6: o->polyline_tolerance = d; break;
+    case 7: o->split_angle_deg = d; break;
+    case 8: o->center_method = (v & 1) ? CenterMethod::kArcChords : CenterMethod::kLongestChords; break;
+    case 9: o->center_distance = d; break;
+    case 10: o->mean_shift_bandwidth = d; break;
+    case 11: o->distance_ratio = d; break;
+    case 12: o->length_ratio = d; break;
+    case 13: o->inlier_rule = (v & 1) ? InlierRule::kAlgebraic : InlierRule::kPixel; o->inlier_threshold = d; break;
+    case 14: o->circumference_ratio = v / 1000.0; break;
+    case 15: o->cluster_rule = (v & 1) ? ClusterRule::kRelative : ClusterRule::kFeatureDistance; break;
+    case 16: o->cluster_distance = d; break;
+    case 17: o->cluster_relative = v / 1000.0; break;
+    case 18: o->cluster_outer_margin = d; break;
+    case 19: o->refine_fit = (v & 1) != 0; o->refined_circumference_ratio = (v >> 1) / 1000.0; break;
+    case 20: o->max_arcs = v; break;
+    case 21: o->max_pairs = v; break;
+    case 22: o->max_triplets = v; break;
+    case 23: o->max_candidates = v; break;
+    case 24: o->max_mean_shift_iterations = v; break;
+    case 25: o->max_image_pixels = v; break;
+    case 26: {  // a non-finite value into one of the double fields
+      double* fields[] = {&o->obb_threshold, &o->polyline_tolerance, &o->split_angle_deg, &o->center_distance,
+                          &o->mean_shift_bandwidth, &o->distance_ratio, &o->length_ratio, &o->inlier_threshold,
+                          &o->circumference_ratio, &o->cluster_distance, &o->cluster_outer_margin};
+      *fields[static_cast<unsigned>(v) % 11] = (v & 0x100) ? inf : ((v & 0x200) ? -inf : nan);
+      break;
+    }
+    case 27: o->backend = static_cast<Backend>(v); break;  // out-of-range enumerators too
+    case 28: o->obb_rule = static_cast<ObbRule>(v & 3); break;
+    default: o->center_method = static_cast<CenterMethod>(v & 3); break;
+  }
+}
+
+void EditOptionMore(int field, int v, Options* o) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double p = v / 1000.0;  // the share fields live in [0, 1]; v spans [-32.8, 32.8]
+  switch (field % 10) {
+    case 0: o->pair_candidates = (v & 1) != 0; o->pair_min_edge_coverage = (v >> 1) / 1000.0; break;
+    case 1: o->min_edge_coverage = p; break;
+    case 2: o->min_exclusive_coverage = p; break;
+    case 3: o->min_axis_ratio = p; break;
+    case 4: o->rim_min_coverage = p; break;  // > 1 turns the outer-rim search off
+    case 5: o->cluster_pick_best_fit = (v & 1) != 0; o->refit_to_edges = (v & 2) != 0; break;
+    case 6: o->refined_circumference_ratio = p; break;
+    case 7: o->cluster_rule = static_cast<ClusterRule>(v & 3); break;
+    case 8: o->inlier_rule = static_cast<InlierRule>(v & 3); break;
+    default: {  // a non-finite value into one of the double fields above
+      double* fields[] = {&o->pair_min_edge_coverage, &o->min_edge_coverage, &o->min_exclusive_coverage,
+                          &o->min_axis_ratio, &o->rim_min_coverage, &o->refined_circumference_ratio,
+                          &o->cluster_relative};
+      *fields[static_cast<unsigned>(v) % 7] = (v & 0x100) ? inf : ((v & 0x200) ? -inf : nan);
+      break;
+    }
+  }
+}
+
+void CheckResult(const DetectionResult& r, int w, int h, const Options& o) {
+  const Status none;
+  if (r.num_edge_pixels < 0 || static_cast<long long>(r.num_edge_pixels) > static_cast<long long>(w) * h)
+    Fail("num_edge_pixels out of [0, w*h]", none);
+  if (r.num_curves < 0 || r.num_arcs < 0 || r.num_pairs < 0 || r.num_triplets < 0 || r.num_candidates < 0)
+    Fail("negative count", none);
+  if (r.num_arcs > o.max_arcs) Fail("num_arcs above max_arcs", none);
+  // Options::max_pairs: a quarter of it per kind of pair, four consecutive kinds and (with
+  // pair_candidates) two opposite ones, at least one pair per kind.
+  if (static_cast<long long>(r.num_pairs) > 6LL * std::max(1, o.max_pairs / 4)) Fail("num_pairs above max_pairs", none);
+  if (r.num_triplets > o.max_triplets) Fail("num_triplets above max_triplets", none);
+  if (r.num_candidates > o.max_candidates) Fail("num_candidates above max_candidates", none);
+  if (r.ellipses.size() > static_cast<std::size_t>(r.num_candidates)) Fail("more ellipses than candidates", none);
+  unsigned known = 0;
+  for (CapFlags cap : kAllCaps) known |= cap;
+  if (r.caps_hit & ~known) Fail("unknown cap flag", none);
+  for (const Ellipse& e : r.ellipses) {
+    if (!std::isfinite(e.cx) || !std::isfinite(e.cy) || !std::isfinite(e.a) || !std::isfinite(e.b) ||
+        !std::isfinite(e.theta) || !std::isfinite(e.score))
+      Fail("non-finite ellipse field", none);
+    if (!(e.b > 0) || e.a < e.b) Fail("ellipse axes not a >= b > 0", none);
+    if (e.theta < -M_PI / 2 - 1e-9 || e.theta >= M_PI / 2 + 1e-9) Fail("theta outside [-pi/2, pi/2)", none);
+  }
+  const StageTimings& t = r.timings;
+  if (!(t.total_ms >= 0) || !(t.edges_ms >= 0)) Fail("negative timing", none);
+}
+
+}  // namespace ellipsekit::fuzz
