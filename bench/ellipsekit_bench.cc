@@ -17,6 +17,8 @@
 //   detect/<backend>/scenes200, opencv_canny_image/scenes200
 //                                         one iteration = all 200 scenes of `ellipsekit scenes
 //                                         --count 200 --seed 7` (rendered on first use)
+//   detect/crowded/<n>                    four crowded 1280x720 frames of n objects
+//                                         (bench/crowded_bench.h); counter ms_per_ellipse
 // Test frames for kernels / edge stage: the first prasad image, resized (cv::resize) to each size,
 // so the edge density is realistic. OpenCV runs single-threaded (cv::setNumThreads(1)).
 #include <benchmark/benchmark.h>
@@ -37,6 +39,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench/crowded_bench.h"
 #include "ellipsekit/detector.h"
 #include "kernels/canny_thresholds.h"
 #include "kernels/edge_sign.h"
@@ -823,6 +826,7 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   Register();
+  ellipsekit::bench::RegisterCrowdedBenchmarks();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

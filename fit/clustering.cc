@@ -33,6 +33,13 @@ double FeatureDistance(const Ellipse& v, const Ellipse& w) {
 
 bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options) {
   if (options.cluster_rule == ClusterRule::kFeatureDistance) {
+    // Our addition to eq. 17: concentric ellipses whose sizes differ by more than an outer rim's
+    // largest scale are two ellipses (the two edges of a printed ring, a cap on a large lid) even
+    // when their feature distance is below T_s, as it is for small ones. Measured in README.
+    const double scale = (v.a + v.b) / (w.a + w.b);
+    if ((scale > kRimMaxScale || scale < 1 / kRimMaxScale) &&
+        std::hypot(v.cx - w.cx, v.cy - w.cy) < kRimCentreTolerance * std::min(v.b, w.b))
+      return false;
     return FeatureDistance(v, w) < options.cluster_distance;
   }
   const double t = options.cluster_relative;
@@ -53,7 +60,56 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
          OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;
 }
 
-int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options, const CandidateCheck* check) {
+// Cluster references by the grid cell of their centres. SameEllipse(v, w) implies centres within
+// CentreReach(v) (eq. 17: D >= the centre distance; kRelative: within cluster_relative * b), so the
+// first matching reference in kept order is the smallest matching index among those near v.
+void ClusterScratch::Start(const std::vector<Candidate>& c) {
+  cols = rows = 0;
+  if (c.empty()) return;
+  double x0 = c[0].ellipse.cx, x1 = x0, y0 = c[0].ellipse.cy, y1 = y0;
+  for (const Candidate& k : c) {
+    x0 = std::min(x0, k.ellipse.cx); x1 = std::max(x1, k.ellipse.cx);
+    y0 = std::min(y0, k.ellipse.cy); y1 = std::max(y1, k.ellipse.cy);
+  }
+  origin_x = x0;
+  origin_y = y0;
+  cell = std::max({kMinCellPx, (x1 - x0) / kMaxCells, (y1 - y0) / kMaxCells});
+  cols = static_cast<int>((x1 - x0) / cell) + 1;
+  rows = static_cast<int>((y1 - y0) / cell) + 1;
+  head.assign(static_cast<std::size_t>(cols) * rows, -1);
+  next.assign(c.size(), -1);
+}
+
+int ClusterScratch::CellIndex(double v, double origin, int n) const {
+  return static_cast<int>(std::clamp(std::floor((v - origin) / cell), 0.0, n - 1.0));
+}
+
+void ClusterScratch::Add(int k, const Ellipse& e) {
+  const int i = CellIndex(e.cy, origin_y, rows) * cols + CellIndex(e.cx, origin_x, cols);
+  next[k] = head[i];
+  head[i] = k;
+}
+
+int ClusterScratch::FirstSame(const std::vector<Candidate>& c, const Ellipse& e, const Options& options) const {
+  const double reach = options.cluster_rule == ClusterRule::kFeatureDistance ? options.cluster_distance
+                                                                             : options.cluster_relative * e.b;
+  const int cx0 = CellIndex(e.cx - reach, origin_x, cols), cx1 = CellIndex(e.cx + reach, origin_x, cols);
+  const int cy0 = CellIndex(e.cy - reach, origin_y, rows), cy1 = CellIndex(e.cy + reach, origin_y, rows);
+  int first = -1;
+  for (int y = cy0; y <= cy1; ++y) {
+    for (int x = cx0; x <= cx1; ++x) {
+      for (int k = head[static_cast<std::size_t>(y) * cols + x]; k >= 0; k = next[k]) {
+        if ((first < 0 || k < first) && SameEllipse(e, c[k].ellipse, options)) first = k;
+      }
+    }
+  }
+  return first;
+}
+
+int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options, const CandidateCheck* check,
+                      ClusterScratch* scratch) {
+  ClusterScratch local;
+  ClusterScratch& grid = scratch != nullptr ? *scratch : local;
   auto passes = [&](const Candidate& c) { return check == nullptr || check->Passes(c); };
   const bool pick_best_fit = options.cluster_pick_best_fit && check != nullptr;
   // Best score first; equal scores ordered by the parameters, so the order is total and the
@@ -73,12 +129,14 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
   // cluster); membership is always tested against the reference, never against the rim or the
   // member chosen to represent it, so a cluster cannot drift.
   std::size_t kept = 0;
+  grid.Start(c);
   for (std::size_t i = 0; i < c.size(); ++i) {
-    std::size_t k = 0;
-    while (k < kept && !SameEllipse(c[i].ellipse, c[k].ellipse, options)) ++k;
+    const int first = grid.FirstSame(c, c[i].ellipse, options);
+    const std::size_t k = first < 0 ? kept : static_cast<std::size_t>(first);
     if (k == kept) {
       if (!passes(c[i])) continue;
       c[kept] = c[i];
+      grid.Add(static_cast<int>(kept), c[i].ellipse);
       c[kept].has_rim = false;
       c[kept].best_fit = c[i].ellipse;
       c[kept].best_fit_share = pick_best_fit ? check->FitShare(c[i], -1) : -1;
@@ -94,10 +152,14 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
       ref.has_rim = true;
       ref.rim = c[i].ellipse;
     }
-    // A member that fits the edges more tightly than the representative so far (rims of the
-    // reference, outer or inner, are other ellipses, never its representative); only the
-    // kFitTries best-scoring members are tried.
-    if (pick_best_fit && !outer && !IsOuterRim(ref.ellipse, c[i].ellipse) && ref.fit_tries++ < kFitTries) {
+    // A member that fits the edges more tightly than the representative so far; rims of the
+    // reference, outer or inner, and members more than kRimMaxScale larger or smaller (the other
+    // edge of a printed ring, joined to a slightly off-centre fit of this one by eq. 17) are other
+    // ellipses, never its representative; only the kFitTries best-scoring members are tried.
+    const double scale = (c[i].ellipse.a + c[i].ellipse.b) / (ref.ellipse.a + ref.ellipse.b);
+    const bool same_size = scale < kRimMaxScale && scale > 1 / kRimMaxScale;
+    if (pick_best_fit && !outer && same_size && !IsOuterRim(ref.ellipse, c[i].ellipse) &&
+        ref.fit_tries++ < kFitTries) {
       const double share = check->FitShare(c[i], ref.best_fit_share);
       if (share > ref.best_fit_share && passes(c[i])) {
         ref.best_fit_share = share;

@@ -47,12 +47,33 @@ class CandidateCheck {
   ~CandidateCheck() = default;
 };
 
+// The clustering's scratch: cluster references by the grid cell of their centres, so each
+// candidate is compared with the references near it only (identical result to comparing it with
+// all of them, in time that grows with the candidates, not candidates x clusters). Sized from the
+// candidates' spread: at most kMaxCells x kMaxCells cells of >= kMinCellPx px.
+struct ClusterScratch {
+  static constexpr double kMinCellPx = 32;
+  static constexpr double kMaxCells = 256;
+  std::vector<int> head, next;  // per cell: the last reference added; per reference: the one before
+  double origin_x = 0, origin_y = 0, cell = kMinCellPx;
+  int cols = 0, rows = 0;
+
+  void Start(const std::vector<Candidate>& candidates);
+  void Add(int reference, const Ellipse& e);
+  // The smallest reference index k with SameEllipse(e, c[k].ellipse), or -1.
+  int FirstSame(const std::vector<Candidate>& c, const Ellipse& e, const Options& options) const;
+
+ private:
+  int CellIndex(double v, double origin, int n) const;
+};
+
 // Sorts `candidates` by score (in place) and moves the cluster references to its front;
 // returns how many there are. With `check`, candidates failing it are left out, and with
 // options.cluster_pick_best_fit each cluster is represented by the member (outer and inner rims of
 // its reference aside) with the highest FitShare, keeping the reference's score; an outer rim
 // chosen for the cluster (see above) still takes precedence.
+// `scratch` (optional) keeps the buffers between frames.
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options,
-                      const CandidateCheck* check = nullptr);
+                      const CandidateCheck* check = nullptr, ClusterScratch* scratch = nullptr);
 
 }  // namespace ellipsekit

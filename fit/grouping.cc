@@ -15,6 +15,42 @@ constexpr int kPositionTolerance = 1;  // px (sec. II-B-3)
 
 int NextQuadrant(int q) { return q == 4 ? 1 : q + 1; }
 
+// An arc's size: the longer side of its bounding box, px.
+double ArcSize(const Arc& a) { return std::max(a.width, a.height); }
+
+// Pairs an arc takes as the larger of the two, per neighbouring quadrant: a bound for frames
+// where many arcs end near each other (200 concentric circles: 12134 pairs with 8, 20000+ without
+// a bound). No shared dataset, generated scene or crowded scene changes with 8 or 16 against no
+// bound; six nested circles (tests/test_rim_search.cc) lose one to 8, none to 16.
+constexpr int kPairsPerArc = 16;
+
+// Calls fn(i, j) for arcs i of quadrant qa and j of quadrant qb whose ends lie within
+// reach * max(ArcSize(i), ArcSize(j)) px of each other (ArcEndIndex::EndDistance) and that
+// accept(i, j): each arc asks the index with its own reach and takes the pairs for which it is
+// the larger arc, at most kPairsPerArc of them, nearest first (ties: lower index). Each pair at
+// most once.
+template <class Accept, class Fn>
+void ForEachNearPair(const std::vector<Arc>& arcs, GroupScratch* s, int qa, int qb, double reach, Accept accept,
+                     Fn fn) {
+  auto seed = [&](int k, int other_quadrant, bool k_is_first) {
+    const double size_k = ArcSize(arcs[k]);
+    s->near.clear();
+    s->index.ForEachNear(arcs, arcs[k], other_quadrant, reach * size_k, [&](int m) {
+      const double size_m = ArcSize(arcs[m]);
+      // Ties in size go to the first arc's side.
+      if (k_is_first ? size_m > size_k : size_m >= size_k) return;
+      if (k_is_first ? accept(k, m) : accept(m, k)) s->near.push_back({ArcEndIndex::EndDistance(arcs[k], arcs[m]), m});
+    });
+    const std::size_t keep = std::min<std::size_t>(s->near.size(), kPairsPerArc);
+    std::partial_sort(s->near.begin(), s->near.begin() + keep, s->near.end());
+    for (std::size_t t = 0; t < keep; ++t) {
+      if (k_is_first) fn(k, s->near[t].second); else fn(s->near[t].second, k);
+    }
+  };
+  for (int i : s->by_quadrant[qa]) seed(i, qb, true);
+  for (int j : s->by_quadrant[qb]) seed(j, qa, false);
+}
+
 // prev is in quadrant q, next in quadrant q + 1 (counter-clockwise).
 bool RelativePositionHolds(const Arc& prev, const Arc& next) {
   switch (prev.quadrant) {
@@ -140,19 +176,35 @@ bool PairCandidate(const Curves& curves, const Arc& first, const Arc& second, co
   return Validate(curves, group, 2, /*refined=*/true, options, e);
 }
 
-// Triplets: (a, b) and (b, c) share the middle arc b. False when a cap ended the search.
+// Triplets: (a, b) and (b, c) share the middle arc b; each middle arc's pairs are listed nearest
+// first. The budget max_triplets is spread over the frame, never spent in scan order: first each
+// middle arc, in the spread order (OrderArcs), examines at most an equal share of it; then the
+// arcs that had more go on, in the same order, with what the others left. False when a cap
+// (max_triplets, max_candidates) ended the search.
 bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                           GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
-  const int n = static_cast<int>(arcs.size());
   const double tc2 = options.center_distance * options.center_distance;
-  for (int b = 0; b < n; ++b) {
+  bool candidates_full = false;
+  // Examines b's triplets from the done[b]-th on (counting only those within T_c) until done[b]
+  // reaches `limit`; true when b has none left.
+  auto run = [&](int b, int limit) {
+    int seen = 0;
     for (int u = s->as_next_offset[b]; u < s->as_next_offset[b + 1]; ++u) {
       const GroupScratch::Pair& ab = s->pairs[s->as_next[u]];
       for (int v = s->as_prev_offset[b]; v < s->as_prev_offset[b + 1]; ++v) {
         const GroupScratch::Pair& bc = s->pairs[s->as_prev[v]];
         if (ab.prev == bc.next) continue;
         if ((ab.center - bc.center).squaredNorm() >= tc2) continue;
-        if (stats->triplets >= options.max_triplets) { stats->caps_hit |= kCapTriplets; return false; }
+        if (seen++ < s->done[b]) continue;
+        if (options.retire_found_arcs && s->retired[ab.prev] + s->retired[b] + s->retired[bc.next] >= 2) {
+          ++s->done[b];
+          continue;
+        }
+        // The share of pass 1 is at least one triplet per middle arc, so the frame's cap is
+        // checked too: with more middle arcs than max_triplets it ends pass 1 early.
+        if (s->spent[b] >= limit || stats->triplets >= options.max_triplets) return false;
+        ++s->done[b];
+        ++s->spent[b];
         ++stats->triplets;
         const Arc* group[3] = {&arcs[ab.prev], &arcs[b], &arcs[bc.next]};
         if (options.refine_fit && SpanFailsLengthRatio(group, 3, options.length_ratio)) continue;
@@ -172,24 +224,59 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
         if (!Validate(curves, group, 3, refined, options, &e)) continue;
         if (static_cast<int>(candidates->size()) >= options.max_candidates) {
           stats->caps_hit |= kCapCandidates;
-          return false;
+          candidates_full = true;
+          return true;
         }
         candidates->push_back(MakeCandidate(e, ab.prev, b, bc.next));
+        if (options.retire_found_arcs) s->retired[ab.prev] = s->retired[b] = s->retired[bc.next] = 1;
       }
     }
+    return true;
+  };
+  int middles = 0;
+  long most = 0;  // the triplets there could be (before T_c)
+  for (int b : s->order) {
+    s->done[b] = s->spent[b] = 0;
+    s->retired[b] = 0;
+    const long in = s->as_next_offset[b + 1] - s->as_next_offset[b], out = s->as_prev_offset[b + 1] - s->as_prev_offset[b];
+    middles += in > 0 && out > 0;
+    most += in * out;
+  }
+  // Longest first when the budget cannot run out (retiring arcs favours the arcs visited first);
+  // spread over the frame when it may.
+  const std::vector<int>& order = most > options.max_triplets ? s->spread : s->order;
+  const int share = std::max(1, options.max_triplets / std::max(1, middles));
+  bool capped = false;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (!run(order[k], share)) capped = true;
+    if (candidates_full) return false;
+    if (stats->triplets >= options.max_triplets) {
+      // The frame's cap reached with middle arcs still to visit: pass 2 reports it.
+      if (k + 1 < order.size()) capped = true;
+      break;
+    }
+  }
+  if (!capped) return true;
+  for (int b : order) {
+    const int left = options.max_triplets - stats->triplets;
+    if (left <= 0 || !run(b, s->spent[b] + left)) {
+      stats->caps_hit |= kCapTriplets;
+      return false;
+    }
+    if (candidates_full) return false;
   }
   return true;
 }
 
 // Two-arc candidates (Options::pair_candidates): the position-tested pairs of consecutive
 // quadrants, then opposite ones (capped like them, a quarter of max_pairs per kind); at most
-// max_triplets pairs are examined (a cap of their own, reported as max_triplets).
+// max_pairs of them are examined (reported as max_pairs).
 void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                        GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   int examined = 0;
   auto add = [&](int first, int second) {
-    if (examined >= options.max_triplets) {
-      stats->caps_hit |= kCapTriplets;
+    if (examined >= options.max_pairs) {
+      stats->caps_hit |= kCapPairs;
       return false;
     }
     ++examined;
@@ -205,28 +292,76 @@ void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const
   for (const GroupScratch::Pair& p : s->pairs) {
     if (MidPointsNear(arcs[p.prev], arcs[p.next]) && !add(p.prev, p.next)) return;
   }
+  // Mid-points within kPairMidDistance arc sizes put the ends within (kPairMidDistance + 2 sqrt 2)
+  // of them (an end lies within a bounding-box diagonal of the mid-point): the index finds a
+  // superset, OppositePositionHolds the pairs.
   const int per_kind = std::max(1, options.max_pairs / 4);
+  const double reach = kPairMidDistance + 2 * std::sqrt(2.0);
   for (int upper = kQuadrantI; upper <= kQuadrantII; ++upper) {
     int kept = 0;
-    for (int i : s->by_quadrant[upper]) {
-      for (int j : s->by_quadrant[upper + 2]) {
-        if (!OppositePositionHolds(arcs[i], arcs[j])) continue;
-        if (kept >= per_kind) {
-          stats->caps_hit |= kCapPairs;
-          break;
-        }
-        ++kept;
-        ++stats->pairs;
-        if (!add(i, j)) return;
+    bool go_on = true;
+    ForEachNearPair(arcs, s, upper, upper + 2, reach,
+                    [&](int i, int j) { return OppositePositionHolds(arcs[i], arcs[j]); }, [&](int i, int j) {
+      if (!go_on) return;
+      if (kept >= per_kind) {
+        stats->caps_hit |= kCapPairs;
+        return;
       }
-      if (kept >= per_kind) break;
-    }
+      ++kept;
+      ++stats->pairs;
+      go_on = add(i, j);
+    });
+    if (!go_on) return;
   }
+}
+
+constexpr double kSpreadCellPx = 64;
+
+// s->order: longest first (ties: lower index). s->spread: the same arcs spread over the frame,
+// most salient first: the longest arc of every kSpreadCellPx cell, then the second longest of
+// every cell, and so on; within a rank, cells in bit-reversed Z order, so that any prefix of the
+// cells is spread evenly over the frame (a 2-D van der Corput sequence), where longest first
+// alone would favour the near side of a tilted layout.
+void OrderArcs(const std::vector<Arc>& arcs, GroupScratch* s) {
+  const int n = static_cast<int>(arcs.size());
+  s->order.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) s->order[i] = i;
+  std::sort(s->order.begin(), s->order.end(), [&arcs](int u, int v) {
+    const int pu = arcs[u].points(), pv = arcs[v].points();
+    return pu != pv ? pu > pv : u < v;
+  });
+  s->spread = s->order;
+  if (n == 0) return;
+  double x0 = arcs[0].mid.x(), y0 = arcs[0].mid.y(), x1 = x0, y1 = y0;
+  for (const Arc& a : arcs) {
+    x0 = std::min(x0, a.mid.x()); x1 = std::max(x1, a.mid.x());
+    y0 = std::min(y0, a.mid.y()); y1 = std::max(y1, a.mid.y());
+  }
+  const int cols = static_cast<int>((x1 - x0) / kSpreadCellPx) + 1;
+  const int rows = static_cast<int>((y1 - y0) / kSpreadCellPx) + 1;
+  s->cell_count.assign(static_cast<std::size_t>(cols) * rows, 0);
+  s->rank.resize(static_cast<std::size_t>(n));
+  s->cell_key.resize(static_cast<std::size_t>(n));
+  for (int i : s->order) {
+    const auto cx = static_cast<std::uint32_t>((arcs[i].mid.x() - x0) / kSpreadCellPx);
+    const auto cy = static_cast<std::uint32_t>((arcs[i].mid.y() - y0) / kSpreadCellPx);
+    s->rank[i] = s->cell_count[static_cast<std::size_t>(cy) * cols + cx]++;
+    std::uint32_t z = 0;
+    for (int bit = 0; bit < 16; ++bit) z |= ((cx >> bit) & 1u) << (2 * bit) | ((cy >> bit) & 1u) << (2 * bit + 1);
+    std::uint32_t reversed = 0;
+    for (int bit = 0; bit < 32; ++bit) reversed |= ((z >> bit) & 1u) << (31 - bit);
+    s->cell_key[i] = reversed;
+  }
+  std::sort(s->spread.begin(), s->spread.end(), [s](int u, int v) {
+    if (s->rank[u] != s->rank[v]) return s->rank[u] < s->rank[v];
+    return s->cell_key[u] < s->cell_key[v];  // one arc per cell and rank: a total order
+  });
 }
 
 }  // namespace
 
-void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
+void GroupScratch::Reserve(int width, int height, const Options& options) {
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
   const std::size_t arcs = std::min<std::size_t>(pixels, ReserveFor(options.max_arcs));
   for (auto& q : by_quadrant) q.reserve(arcs);
   const std::size_t max_pairs = ReserveFor(options.max_pairs);
@@ -235,36 +370,64 @@ void GroupScratch::Reserve(std::size_t pixels, const Options& options) {
   as_prev.reserve(max_pairs);
   as_next_offset.reserve(arcs + 1);
   as_prev_offset.reserve(arcs + 1);
+  order.reserve(arcs);
+  spread.reserve(arcs);
+  rank.reserve(arcs);
+  cell_key.reserve(arcs);
+  cell_count.reserve(static_cast<std::size_t>(width / 64 + 2) * (height / 64 + 2));
+  near.reserve(arcs);
+  done.reserve(arcs);
+  spent.reserve(arcs);
+  retired.reserve(arcs);
+  index.Reserve(width, height, arcs);
   params.Reserve();
 }
 
 void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                     GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   const int n = static_cast<int>(arcs.size());
+  OrderArcs(arcs, s);
   for (auto& q : s->by_quadrant) q.clear();
-  for (int i = 0; i < n; ++i) s->by_quadrant[arcs[i].quadrant].push_back(i);
+  for (int i : s->order) s->by_quadrant[arcs[i].quadrant].push_back(i);
+  s->index.Build(arcs);
 
-  // Pairs. The position test is a few comparisons (bounded by max_arcs squared); the cap counts
-  // the pairs that pass it, each of which costs a centre. It is shared evenly by the four kinds,
-  // so a capped frame still has pairs of every kind to make triplets from.
+  // Pairs of consecutive quadrants whose ends lie near each other (Options::pair_reach), then the
+  // paper's position test. The cap counts the pairs that pass it, each of which costs a centre,
+  // and is shared evenly by the four kinds, so a capped frame still has pairs of every kind.
   s->pairs.clear();
   const int per_kind = std::max(1, options.max_pairs / 4);
   for (int q = 1; q <= 4; ++q) {
     int kept = 0;
-    for (int i : s->by_quadrant[q]) {
-      for (int j : s->by_quadrant[NextQuadrant(q)]) {
-        if (!RelativePositionHolds(arcs[i], arcs[j])) continue;
-        if (kept >= per_kind) { stats->caps_hit |= kCapPairs; break; }
-        Eigen::Vector2d c;
-        if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) { s->pairs.push_back({i, j, c}); ++kept; }
+    ForEachNearPair(arcs, s, q, NextQuadrant(q), options.pair_reach,
+                    [&](int i, int j) { return RelativePositionHolds(arcs[i], arcs[j]); }, [&](int i, int j) {
+      if (kept >= per_kind) {
+        stats->caps_hit |= kCapPairs;
+        return;
       }
-      if (kept >= per_kind) break;
-    }
+      Eigen::Vector2d c;
+      if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) {
+        s->pairs.push_back({i, j, c, ArcEndIndex::EndDistance(arcs[i], arcs[j])});
+        ++kept;
+      }
+    });
   }
   stats->pairs = static_cast<int>(s->pairs.size());
   BuildCsr(n, s->pairs, /*by_next=*/true, &s->as_next_offset, &s->as_next);
   BuildCsr(n, s->pairs, /*by_next=*/false, &s->as_prev_offset, &s->as_prev);
+  // Each arc's pairs nearest first (ties: creation order), so a budget takes the likeliest.
+  auto nearest_first = [s](int p, int q) {
+    return s->pairs[p].gap != s->pairs[q].gap ? s->pairs[p].gap < s->pairs[q].gap : p < q;
+  };
+  for (int i = 0; i < n; ++i) {
+    std::sort(s->as_next.begin() + s->as_next_offset[i], s->as_next.begin() + s->as_next_offset[i + 1], nearest_first);
+    std::sort(s->as_prev.begin() + s->as_prev_offset[i], s->as_prev.begin() + s->as_prev_offset[i + 1], nearest_first);
+  }
+  s->done.resize(static_cast<std::size_t>(n));
+  s->spent.resize(static_cast<std::size_t>(n));
+  s->retired.resize(static_cast<std::size_t>(n));
 
+  // A frame whose triplet budget ran out is pathological (200 concentric circles): its two-arc
+  // candidates would cost as much again, so they are skipped.
   if (!AddTripletCandidates(curves, arcs, options, s, candidates, stats)) return;
   if (options.pair_candidates && options.refine_fit) AddPairCandidates(curves, arcs, options, s, candidates, stats);
 }

@@ -17,6 +17,8 @@
 // and validated the same way (Gamma, K, psi) as a two-arc candidate (Candidate::FromPair).
 #pragma once
 
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -24,6 +26,7 @@
 #include "ellipsekit/options.h"
 #include "ellipsekit/types.h"
 #include "fit/arc.h"
+#include "fit/arc_index.h"
 #include "fit/conic_refine.h"
 #include "fit/parameters.h"
 
@@ -39,16 +42,26 @@ struct GroupScratch {
   struct Pair {
     int prev, next;  // arc indices; prev is the earlier quadrant counter-clockwise
     Eigen::Vector2d center;
+    double gap;      // ArcEndIndex::EndDistance of the two arcs, px
   };
   std::vector<int> by_quadrant[5];
   std::vector<Pair> pairs;
   std::vector<int> as_next_offset, as_next;  // CSR: pairs in which arc i is `next`
   std::vector<int> as_prev_offset, as_prev;  // CSR: pairs in which arc i is `prev`
+  std::vector<int> order;                    // arc indices, longest first
+  std::vector<int> spread;                   // the same, spread over the frame (grouping.cc OrderArcs)
+  std::vector<int> rank, cell_count;         // OrderArcs' scratch
+  std::vector<std::uint32_t> cell_key;
+  std::vector<std::pair<double, int>> near;  // one arc's pairing partners: (end distance, arc)
+  std::vector<int> done;                     // per middle arc: its triplets visited so far
+  std::vector<int> spent;                    // per middle arc: its triplets examined so far
+  std::vector<std::uint8_t> retired;         // per arc: part of a found candidate
+  ArcEndIndex index;
   ParameterScratch params;
 
-  // Sizes every buffer for the worst case of a frame with `pixels` pixels under `options`' caps,
-  // so no later frame grows them.
-  void Reserve(std::size_t pixels, const Options& options);
+  // Sizes every buffer for the worst case of a width x height frame under `options`' caps, so
+  // no later frame of that size grows them.
+  void Reserve(int width, int height, const Options& options);
 };
 
 struct GroupStats {

@@ -67,6 +67,7 @@ Status ValidateOptions(const Options& o) {
     return Invalid("polyline_tolerance must be in (0, 4] px");
   if (!Finite(o.split_angle_deg) || o.split_angle_deg <= 0 || o.split_angle_deg > 60)
     return Invalid("split_angle_deg (T_theta) must be in (0, 60] degrees");
+  if (std::isnan(o.pair_reach) || !(o.pair_reach > 0)) return Invalid("pair_reach must be > 0 (inf: no reach limit)");
   if (!Finite(o.center_distance) || o.center_distance <= 0) return Invalid("center_distance (T_c) must be > 0");
   if (!Finite(o.mean_shift_bandwidth) || o.mean_shift_bandwidth <= 0) return Invalid("mean_shift_bandwidth must be > 0");
   if (!Finite(o.distance_ratio) || o.distance_ratio < 1) return Invalid("distance_ratio (T_f) must be >= 1");
@@ -165,6 +166,7 @@ struct Detector::Impl {
   std::vector<Arc> arcs;
   GroupScratch groups;
   std::vector<Candidate> candidates;
+  ClusterScratch cluster_scratch;
   EdgeClaims claims;  // Options::min_exclusive_coverage; scratch of RefitToEdges
   EdgeRefitScratch refit_scratch;
   std::vector<std::pair<double, int>> by_coverage;
@@ -200,10 +202,12 @@ struct Detector::Impl {
     arc_scratch.hull.reserve(static_cast<std::size_t>(ObbScratchSize(n, n)));
     arcs.reserve(n);
     candidates.reserve(ReserveFor(options.max_candidates));
+    cluster_scratch.head.reserve(static_cast<std::size_t>((ClusterScratch::kMaxCells + 1) * (ClusterScratch::kMaxCells + 1)));
+    cluster_scratch.next.reserve(ReserveFor(options.max_candidates));
     by_coverage.reserve(ReserveFor(options.max_candidates));
     boxes.reserve(ReserveFor(options.max_candidates));
     dropped.reserve(ReserveFor(options.max_candidates));
-    groups.Reserve(n, options);
+    groups.Reserve(w, h, options);
   }
 
   Status Detect(const ImageView& image, DetectionResult* result);
@@ -360,7 +364,7 @@ Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
   // fit/edge_coverage.h), then the outer rims, the exclusive edge support and the refit to the
   // edges (fit/edge_refit.h).
   const CoverageCheck check(EdgeView(), options);
-  int kept = ClusterCandidates(&candidates, options, &check);
+  int kept = ClusterCandidates(&candidates, options, &check, &cluster_scratch);
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);
   if (options.refit_to_edges) {

@@ -62,6 +62,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"min_edge_coverage", &Options::min_edge_coverage},
       {"min_exclusive_coverage", &Options::min_exclusive_coverage},
       {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
+      {"pair_reach", &Options::pair_reach},
       {"min_axis_ratio", &Options::min_axis_ratio},
   };
   static const IntField ints[] = {
@@ -82,7 +83,7 @@ Status SetOption(const std::string& assignment, Options* o) {
   static const BoolField bools[] = {
       {"gaussian_blur", &Options::gaussian_blur}, {"refine_fit", &Options::refine_fit},
       {"pair_candidates", &Options::pair_candidates}, {"cluster_pick_best_fit", &Options::cluster_pick_best_fit},
-      {"refit_to_edges", &Options::refit_to_edges},
+      {"refit_to_edges", &Options::refit_to_edges}, {"retire_found_arcs", &Options::retire_found_arcs},
   };
   for (const BoolField& f : bools) {
     if (name == f.name) return ParseBool(value, &(o->*f.field)) ? Status::Ok() : bad("true or false");

@@ -7,6 +7,7 @@
 #include "tools/cli/args.h"
 #include "tools/cli/commands.h"
 #ifdef ELLIPSEKIT_HAVE_SCENES
+#include "tools/scenes/crowded_scenes.h"
 #include "tools/scenes/scene_generator.h"
 #endif
 
@@ -14,12 +15,16 @@ namespace ellipsekit::cli {
 
 const char kScenesUsage[] =
     "Usage: ellipsekit scenes --out DIR [--count N] [--seed S]\n"
+    "       ellipsekit scenes --crowded [--layout L] [--objects N] --out DIR [--count N] [--seed S]\n"
     "       ellipsekit scenes --conveyor [--speed V] --out DIR [--seed S]\n"
     "       ellipsekit scenes --stack|--crossing [--speed V] [--frames N] --out DIR [--seed S]\n"
     "\n"
     "Writes N generated scenes (ray-cast cylinders, exact ground truth) as a dataset:\n"
     "DIR/images/ and DIR/gt/<stem>.txt, usable with 'ellipsekit eval DIR'.\n"
     "Scene i is RenderScene(MixSeed(S, i)).\n"
+    "With --crowded, crowded scenes instead (RenderCrowdedScene): one flat layout of 50-300 circles\n"
+    "(dot or ring calibration grids, crates of can tops, trays of caps or open cups) under perspective,\n"
+    "640x480 to 1920x1080; the truth lists every dot, both edges of every ring, every top's outer rim.\n"
     "With --conveyor, writes a sequence instead: a can riding a straight guide at V m/s, 30 fps,\n"
     "3 s (90 frames), turning round at the guide's ends: DIR/frames/NNNNNN.png, DIR/depth/NNNNNN.png\n"
     "(uint16 mm along the camera z axis, 0 = invalid), timestamps.txt, camera.json, conveyor.json,\n"
@@ -34,6 +39,11 @@ const char kScenesUsage[] =
     "  --out DIR         output directory (required)\n"
     "  --count N         number of scenes, N >= 1 (default 200)\n"
     "  --seed S          unsigned 64-bit seed (default 7)\n"
+    "  --crowded         write crowded scenes (see above)\n"
+    "  --layout L        with --crowded: any (default), dots, rings, cans, caps or cups\n"
+    "  --objects N       with --crowded: objects per scene, 1 <= N <= 2000 (default: drawn, 50-300)\n"
+    "  --size WxH        with --crowded: frame size, 64..8192 each (default: drawn per scene from\n"
+    "                    640x480, 1280x720, 1920x1080)\n"
     "  --conveyor        write a conveyor sequence (see above)\n"
     "  --speed V         conveyor speed in m/s, 0 < V <= 10 (default 0.05; needs --conveyor or --crossing)\n"
     "  --stack           write a static stacking sequence (see above)\n"
@@ -46,7 +56,10 @@ int RunScenes(const std::vector<std::string>& argv) {
   int count = 200;
   std::uint64_t seed = 7;
   bool conveyor = false, count_given = false;
-  bool stack = false, crossing = false;
+  bool stack = false, crossing = false, crowded = false;
+  std::string layout_name;
+  int objects = 0;
+  int width = 0, height = 0;
   int frames = 0;  // 0: the default of the sequence kind
   double speed = 0.05;
   std::string speed_text;
@@ -64,6 +77,19 @@ int RunScenes(const std::vector<std::string>& argv) {
       count_given = true;
     } else if (name == "--seed") {
       seed = ParseUint64Value(name, r.Value());
+    } else if (name == "--crowded") {
+      r.NoValue();
+      crowded = true;
+    } else if (name == "--layout") {
+      layout_name = r.Value();
+    } else if (name == "--size") {
+      const std::string v = r.Value();
+      const std::size_t x = v.find('x');
+      if (x == std::string::npos) throw UsageError("--size: bad value '" + v + "' (WxH, e.g. 1280x720)");
+      width = ParseIntValue(name, v.substr(0, x), 64, 8192);
+      height = ParseIntValue(name, v.substr(x + 1), 64, 8192);
+    } else if (name == "--objects") {
+      objects = ParseIntValue(name, r.Value(), 1, 2000);
     } else if (name == "--conveyor") {
       r.NoValue();
       conveyor = true;
@@ -86,8 +112,10 @@ int RunScenes(const std::vector<std::string>& argv) {
     }
   }
   if (out.empty()) throw UsageError("--out DIR is required");
-  if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) > 1)
-    throw UsageError("--conveyor, --stack and --crossing exclude each other");
+  if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) + static_cast<int>(crowded) > 1)
+    throw UsageError("--conveyor, --stack, --crossing and --crowded exclude each other");
+  if (!crowded && (!layout_name.empty() || objects > 0 || width > 0))
+    throw UsageError("--layout, --objects and --size need --crowded");
   if (crossing && speed_text.empty()) speed = 0.05;
   if (!conveyor && !crossing && !speed_text.empty()) throw UsageError("--speed needs --conveyor");
   if (frames > 0 && !stack && !crossing) throw UsageError("--frames needs --stack or --crossing");
@@ -120,6 +148,22 @@ int RunScenes(const std::vector<std::string>& argv) {
     std::printf("wrote %s sequence (%d frames, %.3f m/s, radii %.4f/%.4f m, seed %llu) to %s\n",
                 crossing ? "crossing" : "stacking", info.frames, co.speed_m_s, info.radius_m[0], info.radius_m[1],
                 static_cast<unsigned long long>(seed), out.c_str());
+    return kExitOk;
+  }
+  if (crowded) {
+    scenes::CrowdedSceneOptions co;
+    co.objects = objects;
+    co.width = width;
+    co.height = height;
+    if (!layout_name.empty() && !scenes::ParseCrowdedLayout(layout_name, &co.layout))
+      throw UsageError("--layout: unknown layout '" + layout_name + "' (any, dots, rings, cans, caps, cups)");
+    const Status cst = scenes::WriteCrowdedDataset(out, count, seed, co);
+    if (!cst.ok()) {
+      std::fprintf(stderr, "ellipsekit scenes: %s\n", cst.message().c_str());
+      return kExitFailure;
+    }
+    std::printf("wrote %d crowded scenes (layout %s, seed %llu) to %s (images/, gt/)\n", count,
+                scenes::CrowdedLayoutName(co.layout), static_cast<unsigned long long>(seed), out.c_str());
     return kExitOk;
   }
   const Status st = scenes::WriteSceneDataset(out, count, seed);

@@ -1509,12 +1509,17 @@ std::string FormatTruthLine(const ellipsekit::Ellipse& e) {
 
 ellipsekit::Status WriteSceneDataset(const std::string& dir, int count, std::uint64_t seed,
                                      const SceneOptions& options) {
+  if (ellipsekit::Status st = ValidateSceneOptions(options); !st.ok()) return st;
+  return WriteDataset(dir, count, seed, [&options](std::uint64_t s) { return RenderScene(s, options); });
+}
+
+ellipsekit::Status WriteDataset(const std::string& dir, int count, std::uint64_t seed,
+                                const std::function<Scene(std::uint64_t)>& render) {
   using ellipsekit::Status;
   using ellipsekit::StatusCode;
   if (dir.empty()) return Status(StatusCode::kInvalidArgument, "dataset directory is empty");
   if (count < 0) return Status(StatusCode::kInvalidArgument, "scene count must be >= 0, got " + std::to_string(count));
   if (count > 10000) return Status(StatusCode::kInvalidArgument, "scene count must be <= 10000 (4-digit names)");
-  if (Status st = ValidateSceneOptions(options); !st.ok()) return st;
   const std::filesystem::path root(dir);
   const std::filesystem::path images = root / "images", gt = root / "gt";
   for (const auto& d : {images, gt}) {
@@ -1524,7 +1529,7 @@ ellipsekit::Status WriteSceneDataset(const std::string& dir, int count, std::uin
       return Status(StatusCode::kInternal, "cannot create directory " + d.string() + ": " + ec.message());
   }
   for (int i = 0; i < count; ++i) {
-    const Scene scene = RenderScene(MixSeed(seed, static_cast<std::uint64_t>(i)), options);
+    const Scene scene = render(MixSeed(seed, static_cast<std::uint64_t>(i)));
     char stem[32];
     std::snprintf(stem, sizeof stem, "scene_%04d", i);
     // Image: imwrite picks the format from the extension, so the temporary name ends in .png too.

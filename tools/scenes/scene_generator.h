@@ -58,6 +58,10 @@ Scene RenderScene(std::uint64_t seed, const SceneOptions& options = {});
 ellipsekit::Status WriteSceneDataset(const std::string& dir, int count, std::uint64_t seed,
                                      const SceneOptions& options = {});
 
+// The same files for scenes of any generator: scene i is render(MixSeed(seed, i)); count 0..10000.
+ellipsekit::Status WriteDataset(const std::string& dir, int count, std::uint64_t seed,
+                                const std::function<Scene(std::uint64_t)>& render);
+
 // A well-mixed 64-bit seed for scene `index` of a dataset seeded with `seed`.
 std::uint64_t MixSeed(std::uint64_t seed, std::uint64_t index);
 
