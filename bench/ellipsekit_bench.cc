@@ -12,8 +12,10 @@
 //   arc_stage/<backend>/<input>           curves in -> polylines, splits, arc stats out (the three
 //                                         Arcs kernels chained); scalar | vulkan (warm, transfers in)
 //   opencv/<sobel|canny|blur_canny>/<W>x<H>
-//   detect/<backend>/<prasad|scenes>/<image>   Detector::detect on the image at its own size
-//   opencv_canny_image/<prasad|scenes>/<image> cv::Canny on the same image
+//   detect/<backend>/<prasad|photos|scenes>/<image>   Detector::detect on the image at its own
+//                                         size; photos: the other shared datasets' images,
+//                                         named <dataset>_<stem>
+//   opencv_canny_image/<prasad|photos|scenes>/<image> cv::Canny on the same image
 //   detect/<backend>/scenes200, opencv_canny_image/scenes200
 //                                         one iteration = all 200 scenes of `ellipsekit scenes
 //                                         --count 200 --seed 7` (rendered on first use)
@@ -70,6 +72,7 @@ namespace ek = ellipsekit;
 namespace {
 
 constexpr const char* kPrasadDir = "../shared/datasets/prasad_subset/images";
+constexpr const char* kSharedDatasetsDir = "../shared/datasets";
 constexpr int kNumScenes = 6;
 
 struct Size {
@@ -79,16 +82,18 @@ constexpr Size kSizes[] = {{640, 480}, {1280, 720}, {1920, 1080}};
 
 std::string SizeName(Size s) { return std::to_string(s.w) + "x" + std::to_string(s.h); }
 
-std::vector<std::filesystem::path> PrasadImages() {
+std::vector<std::filesystem::path> ImagesIn(const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> out;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(kPrasadDir, ec)) {
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
     const std::string ext = e.path().extension().string();
     if (ext == ".jpg" || ext == ".png" || ext == ".bmp" || ext == ".jpeg") out.push_back(e.path());
   }
   std::sort(out.begin(), out.end());
   return out;
 }
+
+std::vector<std::filesystem::path> PrasadImages() { return ImagesIn(kPrasadDir); }
 
 cv::Mat LoadGray(const std::filesystem::path& p) { return cv::imread(p.string(), cv::IMREAD_GRAYSCALE); }
 
@@ -780,6 +785,19 @@ void Register() {
     cv::Mat m = LoadGray(path);
     if (!m.empty()) prasad.emplace_back(path.stem().string(), m);
   }
+  // The other shared photographs (every dataset but prasad_subset), named <dataset>_<stem>.
+  auto& photos = EndToEndImages("photos");
+  std::error_code ec;
+  std::vector<std::filesystem::path> datasets;
+  for (const auto& e : std::filesystem::directory_iterator(kSharedDatasetsDir, ec))
+    if (e.is_directory() && e.path().filename() != "prasad_subset") datasets.push_back(e.path());
+  std::sort(datasets.begin(), datasets.end());
+  for (const auto& d : datasets) {
+    for (const auto& path : ImagesIn(d / "images")) {
+      cv::Mat m = LoadGray(path);
+      if (!m.empty()) photos.emplace_back(d.filename().string() + "_" + path.stem().string(), m);
+    }
+  }
   auto& scenes = EndToEndImages("scenes");
 #ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
   for (int i = 0; i < kNumScenes; ++i) {
@@ -791,7 +809,7 @@ void Register() {
   static std::vector<std::unique_ptr<Prepared>> prepared;  // thresholds for the Canny baselines
   const std::pair<ek::Backend, const char*> backends[] = {
       {ek::Backend::kScalar, "scalar"}, {ek::Backend::kSimd, "simd"}, {ek::Backend::kVulkan, "vulkan"}};
-  for (const char* set : {"prasad", "scenes"}) {
+  for (const char* set : {"prasad", "photos", "scenes"}) {
     for (auto& [name, mat] : EndToEndImages(set)) {
       if (!mat.isContinuous()) mat = mat.clone();
       const cv::Mat* img = &mat;
