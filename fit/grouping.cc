@@ -184,6 +184,10 @@ bool PairCandidate(const Curves& curves, const Arc& first, const Arc& second, co
 bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                           GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   const double tc2 = options.center_distance * options.center_distance;
+  // Only refitted candidates retire arcs: they fit their arcs to the pixel (psi > 0.9), while on
+  // the paper's path (refine_fit=false) the first valid triplet of an arc is often a poor
+  // estimate of its ellipse (prasad 0.786 -> 0.680 when it retired arcs too).
+  const bool retire = options.retire_found_arcs && options.refine_fit;
   bool candidates_full = false;
   // Examines b's triplets from the done[b]-th on (counting only those within T_c) until done[b]
   // reaches `limit`; true when b has none left.
@@ -196,7 +200,7 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
         if (ab.prev == bc.next) continue;
         if ((ab.center - bc.center).squaredNorm() >= tc2) continue;
         if (seen++ < s->done[b]) continue;
-        if (options.retire_found_arcs && s->retired[ab.prev] + s->retired[b] + s->retired[bc.next] >= 2) {
+        if (retire && s->retired[ab.prev] + s->retired[b] + s->retired[bc.next] >= 2) {
           ++s->done[b];
           continue;
         }
@@ -228,7 +232,7 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
           return true;
         }
         candidates->push_back(MakeCandidate(e, ab.prev, b, bc.next));
-        if (options.retire_found_arcs) s->retired[ab.prev] = s->retired[b] = s->retired[bc.next] = 1;
+        if (retire) s->retired[ab.prev] = s->retired[b] = s->retired[bc.next] = 1;
       }
     }
     return true;

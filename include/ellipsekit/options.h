@@ -86,8 +86,8 @@ struct Options {
   // the frame, so pairs grow with the square of the ellipses in a frame. inf: the paper's test only.
   // Measured in README ("Crowded scenes").
   double pair_reach = 2.0;
-  // Our addition: the arcs of a validated triplet are retired: a later triplet with two or more
-  // retired arcs is not examined (two-arc candidates still are). Middle arcs are visited longest
+  // Our addition (needs refine_fit): the arcs of a validated triplet are retired: a later triplet
+  // with two or more retired arcs is not examined (two-arc candidates still are). Middle arcs are visited longest
   // first and each one's pairs nearest first, so a retired arc is mostly its ellipse's. Crowded
   // frames: 5-10x fewer triplets; retiring on one retired arc instead lost a true ellipse in
   // nested circles and on sc7 / su2019_coin. Measured in README ("Crowded scenes").
