@@ -144,6 +144,16 @@ TEST(SameEllipse, ConcentricEllipsesOfVeryDifferentSizeAreTwo) {
   EXPECT_TRUE(SameEllipse(outer, below, o));
 }
 
+CrowdedSceneOptions Layout(int width, int height, CrowdedLayout layout, int objects, double max_tilt_deg) {
+  CrowdedSceneOptions o;
+  o.width = width;
+  o.height = height;
+  o.layout = layout;
+  o.objects = objects;
+  o.max_tilt_deg = max_tilt_deg;
+  return o;
+}
+
 struct Found {
   int truth = 0, correct = 0, detected = 0;
   unsigned caps = 0;
@@ -173,12 +183,7 @@ Found DetectScene(const scenes::Scene& s, const Options& options = {}) {
 // 300, 300 and 299 of 300 edges for seeds 1-3 (the one missed: an outer edge whose cluster a
 // two-arc fit of its own inner edge took); the test allows two misses per frame.
 TEST(CrowdedScenes, EveryRingOfA15x10GridIsFound) {
-  CrowdedSceneOptions o;
-  o.width = 1920;
-  o.height = 1080;
-  o.layout = CrowdedLayout::kRingGrid;
-  o.objects = 150;
-  o.max_tilt_deg = 30;
+  CrowdedSceneOptions o = Layout(1920, 1080, CrowdedLayout::kRingGrid, 150, 30);
   o.min_semi_minor_px = 12;
   o.max_ring_ratio = 0.65;
   for (std::uint64_t seed : {1, 2, 3}) {
@@ -193,15 +198,11 @@ TEST(CrowdedScenes, EveryRingOfA15x10GridIsFound) {
 
 // The triplet budget cut to a quarter of what a 300-dot frame examines: pass 1 gives every
 // middle arc of the frame an equal share, visited spread over the frame (grouping.cc OrderArcs),
-// so each quadrant of the layout keeps its share of the detections. (A frame that exhausts the budget also skips the two-arc
-// candidates, fit/grouping.h; the dots are large enough here for triplets.)
+// so each quadrant of the layout keeps its share of the detections. (A frame that exhausts the
+// budget also skips the two-arc candidates, fit/grouping.h; the dots are large enough here for
+// triplets.)
 TEST(CrowdedScenes, ABudgetThatRunsOutStillFindsEllipsesInEveryQuadrant) {
-  CrowdedSceneOptions o;
-  o.width = 1280;
-  o.height = 720;
-  o.layout = CrowdedLayout::kDotGrid;
-  o.objects = 300;
-  o.max_tilt_deg = 20;
+  CrowdedSceneOptions o = Layout(1280, 720, CrowdedLayout::kDotGrid, 300, 20);
   o.min_semi_minor_px = 14;
   const scenes::Scene s = scenes::RenderCrowdedScene(11, o);
   ASSERT_EQ(s.truth.size(), 300u);
@@ -228,12 +229,7 @@ TEST(CrowdedScenes, ABudgetThatRunsOutStillFindsEllipsesInEveryQuadrant) {
 }
 
 TEST(CrowdedScenes, PairsPerEllipseDoNotGrowWithTheEllipses) {
-  CrowdedSceneOptions o;
-  o.width = 1280;
-  o.height = 720;
-  o.layout = CrowdedLayout::kDotGrid;
-  o.max_tilt_deg = 30;
-  o.objects = 25;
+  CrowdedSceneOptions o = Layout(1280, 720, CrowdedLayout::kDotGrid, 25, 30);
   const Found few = DetectScene(scenes::RenderCrowdedScene(5, o));
   o.objects = 300;
   const Found many = DetectScene(scenes::RenderCrowdedScene(5, o));
