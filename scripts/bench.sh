@@ -118,7 +118,7 @@ lines.append("")
 lines += ["## End to end: detect() / cv::Canny on the same image (median of per-image ratios)", "",
           "| set | images | detect(scalar) / Canny | detect(SIMD) / Canny | detect(Vulkan) / Canny | median detect(SIMD) ms | median cv::Canny ms |",
           "|---|---|---|---|---|---|---|"]
-for st in ["prasad", "scenes"]:
+for st in ["prasad", "photos", "scenes"]:
     images = sorted({n.split("/", 2)[2] for n in runs if n.startswith(f"opencv_canny_image/{st}/")})
     cols = []
     for be in ["scalar", "simd", "vulkan"]:

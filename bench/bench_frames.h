@@ -1,0 +1,46 @@
+// Frames and helpers shared by the benchmark files: the shared datasets' images, the scalar
+// reference's edge-stage planes of a frame (inputs of the kernels, thresholds of the Canny
+// baselines), and throughput counters.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "ellipsekit/types.h"
+#include "kernels/canny_thresholds.h"
+
+namespace ellipsekit::bench {
+
+inline constexpr const char* kPrasadDir = "../shared/datasets/prasad_subset/images";
+inline constexpr const char* kSharedDatasetsDir = "../shared/datasets";
+
+// The .jpg/.jpeg/.png/.bmp files of `dir`, sorted; empty when it cannot be read.
+std::vector<std::filesystem::path> ImagesIn(const std::filesystem::path& dir);
+std::vector<std::filesystem::path> PrasadImages();
+cv::Mat LoadGray(const std::filesystem::path& p);  // empty when unreadable
+ImageView View(const cv::Mat& m);
+
+// The inputs of every edge kernel for one frame size, produced by the scalar reference.
+struct Prepared {
+  cv::Mat frame;  // CV_8UC1, continuous
+  int w = 0, h = 0;
+  std::vector<std::uint8_t> blurred, nms, hyst, edges, scratch_u8;
+  std::vector<std::int16_t> dx, dy;
+  std::vector<std::uint16_t> mag;
+  std::vector<std::uint32_t> hist;
+  std::vector<std::int32_t> stack;
+  CannyThresholds th;
+};
+
+// Fills *p from `frame` with the scalar reference kernels and the default options.
+void PrepareFrom(const cv::Mat& frame, Prepared* p);
+
+// items/s = pixels per iteration, bytes/s = bytes_per_iter per iteration.
+void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_iter);
+
+}  // namespace ellipsekit::bench
