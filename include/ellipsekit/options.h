@@ -163,13 +163,14 @@ struct Options {
 
   // ---- caps (bounded work): when one is hit, DetectionResult::caps_hit says which
   int max_arcs = 4096;              // arcs kept per frame (longest first)
-  // Measured need: the 200 generated scenes and the 30 shared dataset images need at most 1475
-  // pairs and 1583 triplets; crowded scenes (`ellipsekit scenes --crowded --count 60 --seed 1`,
-  // up to 300 objects: can tops with four nested edges, rings with two) at most 10329 pairs,
-  // 10329 two-arc groups, 2784 triplets and 6281 candidates. Pairs are local (pair_reach), found
-  // ellipses retire their arcs, and the triplet budget is spread over the frame (fit/grouping.h),
-  // so a frame that reaches a cap still has ellipses found everywhere. 200 concentric circles
-  // (tests/test_robustness_worst_case.cc) is the worst case the caps bound.
+  // Measured need (`ellipsekit detect --format json`): the 200 generated scenes (seed 7) and the 30
+  // shared dataset images at most 850 pairs, 269 triplets, 206 candidates; crowded scenes
+  // (`ellipsekit scenes --crowded --count 60`, seeds 1 and 2; up to 300 objects: can tops with
+  // four nested edges, rings with two) at most 15007 pairs, 10329 two-arc groups, 3128 triplets
+  // and 7116 candidates. Pairs are local (pair_reach), found ellipses retire their arcs, and the
+  // triplet budget is spread over the frame (fit/grouping.h), so a frame that reaches a cap still
+  // has ellipses found everywhere. 200 concentric circles (tests/test_robustness_worst_case.cc) is
+  // the worst case the caps bound.
   int max_pairs = 20000;            // arc pairs that pass the position test (a quarter per kind;
                                     // the two opposite kinds of pair_candidates a quarter each too),
                                     // and, separately, two-arc groups examined
