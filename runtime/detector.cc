@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "fit/arc_selection.h"
@@ -115,6 +116,11 @@ Status ValidateImage(const ImageView& image, const Options& options) {
     return Invalid("image size " + std::to_string(image.width) + "x" + std::to_string(image.height) + " is not positive");
   if (image.stride < image.width)
     return Invalid("image stride " + std::to_string(image.stride) + " is smaller than its width " + std::to_string(image.width));
+  // The last pixel, (height - 1) * stride + width - 1 bytes past data, must be addressable: a
+  // stride so large that this overflows (e.g. PTRDIFF_MAX) would wrap the row pointers.
+  if (image.height > 1 && image.stride > (PTRDIFF_MAX - image.width) / (image.height - 1))
+    return Invalid("image stride " + std::to_string(image.stride) + " times its height " +
+                   std::to_string(image.height) + " overflows the address range");
   if (image.width > kMaxImageDimension || image.height > kMaxImageDimension)
     return Invalid("image size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                    " exceeds the maximum side of " + std::to_string(kMaxImageDimension) + " px");

@@ -1,5 +1,6 @@
 // Bad inputs and edge cases of the public API: every error is a non-ok Status naming the problem.
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <random>
@@ -45,6 +46,12 @@ TEST(DetectorErrors, BadImageViews) {
   st = det.detect({buf.data(), 64, 64, 63}, &r);
   EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
   EXPECT_TRUE(Mentions(st, "stride")) << st.message();
+  // A stride whose rows would run past the address range is refused, not followed (it crashed).
+  for (std::ptrdiff_t stride : {PTRDIFF_MAX, PTRDIFF_MAX / 2, PTRDIFF_MAX / 3 + 1}) {
+    st = det.detect({buf.data(), 4, 4, stride}, &r);
+    EXPECT_EQ(st.code(), StatusCode::kInvalidArgument) << stride;
+    EXPECT_TRUE(Mentions(st, "overflows")) << st.message();
+  }
   // A side over 16384 px is refused before the data is touched (one row only here).
   std::vector<std::uint8_t> row(16385, 0);
   st = det.detect({row.data(), 16385, 1, 16385}, &r);
