@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/backend.h"
+#include "kernels/kernel_table.h"
 
 namespace ellipsekit::simd {
 

@@ -12,7 +12,7 @@
 #include "fit/obb.h"
 #include "kernels/arc_split.h"
 #include "kernels/polyline.h"
-#include "runtime/backend.h"
+#include "kernels/kernel_table.h"
 
 namespace ellipsekit {
 
