@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fit/arc.h"
+#include "fit/uniform_grid.h"
 
 namespace ellipsekit {
 
@@ -25,18 +26,13 @@ class ArcEndIndex {
   // Smallest distance between an end point of u and one of v, px.
   static double EndDistance(const Arc& u, const Arc& v);
 
-  // Calls fn(j) once for each arc j of `quadrant` with an end point within `radius` px of an end
-  // point of `arc` (EndDistance(arc, arcs[j]) <= radius), in the order of the grid's cells.
+  // Calls fn(j, d) once for each arc j of `quadrant` with an end point within `radius` px of an
+  // end point of `arc` (d = EndDistance(arc, arcs[j]) <= radius), in the order of the grid's cells.
   template <class Fn>
   void ForEachNear(const std::vector<Arc>& arcs, const Arc& arc, int quadrant, double radius, Fn fn);
 
  private:
-  // The cells that a disc of `radius` round p touches, clamped to the grid.
-  void CellRange(const Eigen::Vector2d& p, double radius, int* x0, int* y0, int* x1, int* y1) const;
-  int CellOf(const Eigen::Vector2d& p) const;
-
-  double origin_x_ = 0, origin_y_ = 0;
-  int cols_ = 0, rows_ = 0;
+  UniformGrid grid_;
   std::vector<int> offset_;  // [quadrant - 1][cell], CSR over items_
   std::vector<int> items_;   // arc indices, each arc once per distinct end-point cell
   std::vector<int> seen_;    // per arc: the last query that found it (ForEachNear reports it once)
@@ -45,21 +41,21 @@ class ArcEndIndex {
 
 template <class Fn>
 void ArcEndIndex::ForEachNear(const std::vector<Arc>& arcs, const Arc& arc, int quadrant, double radius, Fn fn) {
-  if (cols_ == 0) return;
+  if (grid_.cells() == 0) return;
   ++query_;
-  const int cells = cols_ * rows_;
-  const int* offset = offset_.data() + static_cast<std::size_t>(quadrant - 1) * (cells + 1);
+  const int* offset = offset_.data() + static_cast<std::size_t>(quadrant - 1) * (grid_.cells() + 1);
   for (const Eigen::Vector2d& p : {arc.p0, arc.p1}) {
-    int x0, y0, x1, y1;
-    CellRange(p, radius, &x0, &y0, &x1, &y1);
+    const int x0 = grid_.Column(p.x() - radius), x1 = grid_.Column(p.x() + radius);
+    const int y0 = grid_.Row(p.y() - radius), y1 = grid_.Row(p.y() + radius);
     for (int cy = y0; cy <= y1; ++cy) {
       for (int cx = x0; cx <= x1; ++cx) {
-        const int cell = cy * cols_ + cx;
+        const int cell = cy * grid_.cols + cx;
         for (int k = offset[cell]; k < offset[cell + 1]; ++k) {
           const int j = items_[k];
           if (seen_[j] == query_) continue;
           seen_[j] = query_;
-          if (EndDistance(arc, arcs[j]) <= radius) fn(j);
+          const double d = EndDistance(arc, arcs[j]);
+          if (d <= radius) fn(j, d);
         }
       }
     }

@@ -61,31 +61,20 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
 }
 
 // Cluster references by the grid cell of their centres. SameEllipse(v, w) implies centres within
-// CentreReach(v) (eq. 17: D >= the centre distance; kRelative: within cluster_relative * b), so the
+// FirstSame's reach (eq. 17: D >= the centre distance; kRelative: within cluster_relative * b), so the
 // first matching reference in kept order is the smallest matching index among those near v.
 void ClusterScratch::Start(const std::vector<Candidate>& c) {
-  cols = rows = 0;
-  if (c.empty()) return;
-  double x0 = c[0].ellipse.cx, x1 = x0, y0 = c[0].ellipse.cy, y1 = y0;
-  for (const Candidate& k : c) {
-    x0 = std::min(x0, k.ellipse.cx); x1 = std::max(x1, k.ellipse.cx);
-    y0 = std::min(y0, k.ellipse.cy); y1 = std::max(y1, k.ellipse.cy);
-  }
-  origin_x = x0;
-  origin_y = y0;
-  cell = std::max({kMinCellPx, (x1 - x0) / kMaxCells, (y1 - y0) / kMaxCells});
-  cols = static_cast<int>((x1 - x0) / cell) + 1;
-  rows = static_cast<int>((y1 - y0) / cell) + 1;
-  head.assign(static_cast<std::size_t>(cols) * rows, -1);
+  UniformGrid::Box box;
+  for (const Candidate& k : c) box.Add(k.ellipse.cx, k.ellipse.cy);
+  const double cell =
+      box.empty() ? kMinCellPx : std::max({kMinCellPx, (box.x1 - box.x0) / kMaxCells, (box.y1 - box.y0) / kMaxCells});
+  grid.Cover(box, cell);
+  head.assign(static_cast<std::size_t>(grid.cells()), -1);
   next.assign(c.size(), -1);
 }
 
-int ClusterScratch::CellIndex(double v, double origin, int n) const {
-  return static_cast<int>(std::clamp(std::floor((v - origin) / cell), 0.0, n - 1.0));
-}
-
 void ClusterScratch::Add(int k, const Ellipse& e) {
-  const int i = CellIndex(e.cy, origin_y, rows) * cols + CellIndex(e.cx, origin_x, cols);
+  const int i = grid.Cell(e.cx, e.cy);
   next[k] = head[i];
   head[i] = k;
 }
@@ -93,12 +82,12 @@ void ClusterScratch::Add(int k, const Ellipse& e) {
 int ClusterScratch::FirstSame(const std::vector<Candidate>& c, const Ellipse& e, const Options& options) const {
   const double reach = options.cluster_rule == ClusterRule::kFeatureDistance ? options.cluster_distance
                                                                              : options.cluster_relative * e.b;
-  const int cx0 = CellIndex(e.cx - reach, origin_x, cols), cx1 = CellIndex(e.cx + reach, origin_x, cols);
-  const int cy0 = CellIndex(e.cy - reach, origin_y, rows), cy1 = CellIndex(e.cy + reach, origin_y, rows);
+  const int cx0 = grid.Column(e.cx - reach), cx1 = grid.Column(e.cx + reach);
+  const int cy0 = grid.Row(e.cy - reach), cy1 = grid.Row(e.cy + reach);
   int first = -1;
   for (int y = cy0; y <= cy1; ++y) {
     for (int x = cx0; x <= cx1; ++x) {
-      for (int k = head[static_cast<std::size_t>(y) * cols + x]; k >= 0; k = next[k]) {
+      for (int k = head[static_cast<std::size_t>(y) * grid.cols + x]; k >= 0; k = next[k]) {
         if ((first < 0 || k < first) && SameEllipse(e, c[k].ellipse, options)) first = k;
       }
     }

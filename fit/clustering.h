@@ -13,6 +13,7 @@
 #include "ellipsekit/options.h"
 #include "ellipsekit/types.h"
 #include "fit/arc.h"
+#include "fit/uniform_grid.h"
 
 namespace ellipsekit {
 
@@ -54,17 +55,13 @@ class CandidateCheck {
 struct ClusterScratch {
   static constexpr double kMinCellPx = 32;
   static constexpr double kMaxCells = 256;
+  UniformGrid grid;
   std::vector<int> head, next;  // per cell: the last reference added; per reference: the one before
-  double origin_x = 0, origin_y = 0, cell = kMinCellPx;
-  int cols = 0, rows = 0;
 
   void Start(const std::vector<Candidate>& candidates);
   void Add(int reference, const Ellipse& e);
   // The smallest reference index k with SameEllipse(e, c[k].ellipse), or -1.
   int FirstSame(const std::vector<Candidate>& c, const Ellipse& e, const Options& options) const;
-
- private:
-  int CellIndex(double v, double origin, int n) const;
 };
 
 // Sorts `candidates` by score (in place) and moves the cluster references to its front;

@@ -5,6 +5,7 @@
 
 #include "ellipsekit/detector.h"
 #include "fit/center.h"
+#include "fit/uniform_grid.h"
 #include "fit/validation.h"
 
 namespace ellipsekit {
@@ -24,8 +25,8 @@ double ArcSize(const Arc& a) { return std::max(a.width, a.height); }
 // bound; six nested circles (tests/test_rim_search.cc) lose one to 8, none to 16.
 constexpr int kPairsPerArc = 16;
 
-// Calls fn(i, j) for arcs i of quadrant qa and j of quadrant qb whose ends lie within
-// reach * max(ArcSize(i), ArcSize(j)) px of each other (ArcEndIndex::EndDistance) and that
+// Calls fn(i, j, d) for arcs i of quadrant qa and j of quadrant qb whose ends lie d <=
+// reach * max(ArcSize(i), ArcSize(j)) px from each other (ArcEndIndex::EndDistance) and that
 // accept(i, j): each arc asks the index with its own reach and takes the pairs for which it is
 // the larger arc, at most kPairsPerArc of them, nearest first (ties: lower index). Each pair at
 // most once.
@@ -35,16 +36,17 @@ void ForEachNearPair(const std::vector<Arc>& arcs, GroupScratch* s, int qa, int 
   auto seed = [&](int k, int other_quadrant, bool k_is_first) {
     const double size_k = ArcSize(arcs[k]);
     s->near.clear();
-    s->index.ForEachNear(arcs, arcs[k], other_quadrant, reach * size_k, [&](int m) {
+    s->index.ForEachNear(arcs, arcs[k], other_quadrant, reach * size_k, [&](int m, double d) {
       const double size_m = ArcSize(arcs[m]);
       // Ties in size go to the first arc's side.
       if (k_is_first ? size_m > size_k : size_m >= size_k) return;
-      if (k_is_first ? accept(k, m) : accept(m, k)) s->near.push_back({ArcEndIndex::EndDistance(arcs[k], arcs[m]), m});
+      if (k_is_first ? accept(k, m) : accept(m, k)) s->near.push_back({d, m});
     });
     const std::size_t keep = std::min<std::size_t>(s->near.size(), kPairsPerArc);
     std::partial_sort(s->near.begin(), s->near.begin() + keep, s->near.end());
     for (std::size_t t = 0; t < keep; ++t) {
-      if (k_is_first) fn(k, s->near[t].second); else fn(s->near[t].second, k);
+      const auto [d, m] = s->near[t];
+      if (k_is_first) fn(k, m, d); else fn(m, k, d);
     }
   };
   for (int i : s->by_quadrant[qa]) seed(i, qb, true);
@@ -176,9 +178,53 @@ bool PairCandidate(const Curves& curves, const Arc& first, const Arc& second, co
   return Validate(curves, group, 2, /*refined=*/true, options, e);
 }
 
+// Arcs longest first (ties: lower index): the order pairs are made and, when the triplet budget
+// cannot run out, the order middle arcs are visited in.
+void LongestFirst(const std::vector<Arc>& arcs, GroupScratch* s) {
+  const int n = static_cast<int>(arcs.size());
+  s->order.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) s->order[i] = i;
+  std::sort(s->order.begin(), s->order.end(), [&arcs](int u, int v) {
+    const int pu = arcs[u].points(), pv = arcs[v].points();
+    return pu != pv ? pu > pv : u < v;
+  });
+}
+
+constexpr double kSpreadCellPx = 64;
+
+// s->spread: the arcs of s->order spread over the frame, most salient first: the longest arc of
+// every kSpreadCellPx cell, then the second longest of every cell, and so on; within a rank,
+// cells in bit-reversed Z order, so that any prefix of the cells is spread evenly over the frame
+// (a 2-D van der Corput sequence), where longest first alone would favour the near side of a
+// tilted layout. Made only for a frame whose triplet budget may run out.
+void SpreadOverFrame(const std::vector<Arc>& arcs, GroupScratch* s) {
+  UniformGrid::Box box;
+  for (const Arc& a : arcs) box.Add(a.mid.x(), a.mid.y());
+  UniformGrid grid;
+  grid.Cover(box, kSpreadCellPx);
+  s->cell_count.assign(static_cast<std::size_t>(grid.cells()), 0);
+  s->rank.resize(arcs.size());
+  s->cell_key.resize(arcs.size());
+  for (int i : s->order) {
+    const auto cx = static_cast<std::uint32_t>(grid.Column(arcs[i].mid.x()));
+    const auto cy = static_cast<std::uint32_t>(grid.Row(arcs[i].mid.y()));
+    s->rank[i] = s->cell_count[static_cast<std::size_t>(cy) * grid.cols + cx]++;
+    std::uint32_t z = 0;
+    for (int bit = 0; bit < 16; ++bit) z |= ((cx >> bit) & 1u) << (2 * bit) | ((cy >> bit) & 1u) << (2 * bit + 1);
+    std::uint32_t reversed = 0;
+    for (int bit = 0; bit < 32; ++bit) reversed |= ((z >> bit) & 1u) << (31 - bit);
+    s->cell_key[i] = reversed;
+  }
+  s->spread = s->order;
+  std::sort(s->spread.begin(), s->spread.end(), [s](int u, int v) {
+    if (s->rank[u] != s->rank[v]) return s->rank[u] < s->rank[v];
+    return s->cell_key[u] < s->cell_key[v];  // one arc per cell and rank: a total order
+  });
+}
+
 // Triplets: (a, b) and (b, c) share the middle arc b; each middle arc's pairs are listed nearest
 // first. The budget max_triplets is spread over the frame, never spent in scan order: first each
-// middle arc, in the spread order (OrderArcs), examines at most an equal share of it; then the
+// middle arc, in the spread order (SpreadOverFrame), examines at most an equal share of it; then the
 // arcs that had more go on, in the same order, with what the others left. False when a cap
 // (max_triplets, max_candidates) ended the search.
 bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
@@ -248,6 +294,7 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
   }
   // Longest first when the budget cannot run out (retiring arcs favours the arcs visited first);
   // spread over the frame when it may.
+  if (most > options.max_triplets) SpreadOverFrame(arcs, s);
   const std::vector<int>& order = most > options.max_triplets ? s->spread : s->order;
   const int share = std::max(1, options.max_triplets / std::max(1, middles));
   bool capped = false;
@@ -305,7 +352,7 @@ void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const
     int kept = 0;
     bool go_on = true;
     ForEachNearPair(arcs, s, upper, upper + 2, reach,
-                    [&](int i, int j) { return OppositePositionHolds(arcs[i], arcs[j]); }, [&](int i, int j) {
+                    [&](int i, int j) { return OppositePositionHolds(arcs[i], arcs[j]); }, [&](int i, int j, double) {
       if (!go_on) return;
       if (kept >= per_kind) {
         stats->caps_hit |= kCapPairs;
@@ -317,49 +364,6 @@ void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const
     });
     if (!go_on) return;
   }
-}
-
-constexpr double kSpreadCellPx = 64;
-
-// s->order: longest first (ties: lower index). s->spread: the same arcs spread over the frame,
-// most salient first: the longest arc of every kSpreadCellPx cell, then the second longest of
-// every cell, and so on; within a rank, cells in bit-reversed Z order, so that any prefix of the
-// cells is spread evenly over the frame (a 2-D van der Corput sequence), where longest first
-// alone would favour the near side of a tilted layout.
-void OrderArcs(const std::vector<Arc>& arcs, GroupScratch* s) {
-  const int n = static_cast<int>(arcs.size());
-  s->order.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) s->order[i] = i;
-  std::sort(s->order.begin(), s->order.end(), [&arcs](int u, int v) {
-    const int pu = arcs[u].points(), pv = arcs[v].points();
-    return pu != pv ? pu > pv : u < v;
-  });
-  s->spread = s->order;
-  if (n == 0) return;
-  double x0 = arcs[0].mid.x(), y0 = arcs[0].mid.y(), x1 = x0, y1 = y0;
-  for (const Arc& a : arcs) {
-    x0 = std::min(x0, a.mid.x()); x1 = std::max(x1, a.mid.x());
-    y0 = std::min(y0, a.mid.y()); y1 = std::max(y1, a.mid.y());
-  }
-  const int cols = static_cast<int>((x1 - x0) / kSpreadCellPx) + 1;
-  const int rows = static_cast<int>((y1 - y0) / kSpreadCellPx) + 1;
-  s->cell_count.assign(static_cast<std::size_t>(cols) * rows, 0);
-  s->rank.resize(static_cast<std::size_t>(n));
-  s->cell_key.resize(static_cast<std::size_t>(n));
-  for (int i : s->order) {
-    const auto cx = static_cast<std::uint32_t>((arcs[i].mid.x() - x0) / kSpreadCellPx);
-    const auto cy = static_cast<std::uint32_t>((arcs[i].mid.y() - y0) / kSpreadCellPx);
-    s->rank[i] = s->cell_count[static_cast<std::size_t>(cy) * cols + cx]++;
-    std::uint32_t z = 0;
-    for (int bit = 0; bit < 16; ++bit) z |= ((cx >> bit) & 1u) << (2 * bit) | ((cy >> bit) & 1u) << (2 * bit + 1);
-    std::uint32_t reversed = 0;
-    for (int bit = 0; bit < 32; ++bit) reversed |= ((z >> bit) & 1u) << (31 - bit);
-    s->cell_key[i] = reversed;
-  }
-  std::sort(s->spread.begin(), s->spread.end(), [s](int u, int v) {
-    if (s->rank[u] != s->rank[v]) return s->rank[u] < s->rank[v];
-    return s->cell_key[u] < s->cell_key[v];  // one arc per cell and rank: a total order
-  });
 }
 
 }  // namespace
@@ -390,7 +394,7 @@ void GroupScratch::Reserve(int width, int height, const Options& options) {
 void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                     GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   const int n = static_cast<int>(arcs.size());
-  OrderArcs(arcs, s);
+  LongestFirst(arcs, s);
   for (auto& q : s->by_quadrant) q.clear();
   for (int i : s->order) s->by_quadrant[arcs[i].quadrant].push_back(i);
   s->index.Build(arcs);
@@ -403,14 +407,15 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
   for (int q = 1; q <= 4; ++q) {
     int kept = 0;
     ForEachNearPair(arcs, s, q, NextQuadrant(q), options.pair_reach,
-                    [&](int i, int j) { return RelativePositionHolds(arcs[i], arcs[j]); }, [&](int i, int j) {
+                    [&](int i, int j) { return RelativePositionHolds(arcs[i], arcs[j]); },
+                    [&](int i, int j, double gap) {
       if (kept >= per_kind) {
         stats->caps_hit |= kCapPairs;
         return;
       }
       Eigen::Vector2d c;
       if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) {
-        s->pairs.push_back({i, j, c, ArcEndIndex::EndDistance(arcs[i], arcs[j])});
+        s->pairs.push_back({i, j, c, gap});
         ++kept;
       }
     });

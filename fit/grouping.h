@@ -49,8 +49,8 @@ struct GroupScratch {
   std::vector<int> as_next_offset, as_next;  // CSR: pairs in which arc i is `next`
   std::vector<int> as_prev_offset, as_prev;  // CSR: pairs in which arc i is `prev`
   std::vector<int> order;                    // arc indices, longest first
-  std::vector<int> spread;                   // the same, spread over the frame (grouping.cc OrderArcs)
-  std::vector<int> rank, cell_count;         // OrderArcs' scratch
+  std::vector<int> spread;                   // the same, spread over the frame (SpreadOverFrame)
+  std::vector<int> rank, cell_count;         // SpreadOverFrame's scratch
   std::vector<std::uint32_t> cell_key;
   std::vector<std::pair<double, int>> near;  // one arc's pairing partners: (end distance, arc)
   std::vector<int> done;                     // per middle arc: its triplets visited so far

@@ -48,7 +48,10 @@ TEST(ArcEndIndex, FindsExactlyTheArcsWithAnEndWithinTheRadius) {
       for (double radius : {0.0, 5.0, 40.0, 150.0, HUGE_VAL}) {
         for (int q = 1; q <= 4; ++q) {
           std::vector<int> got, want;
-          index.ForEachNear(arcs, probe, q, radius, [&](int j) { got.push_back(j); });
+          index.ForEachNear(arcs, probe, q, radius, [&](int j, double d) {
+            EXPECT_EQ(d, ArcEndIndex::EndDistance(probe, arcs[j]));
+            got.push_back(j);
+          });
           for (int j = 0; j < static_cast<int>(arcs.size()); ++j) {
             if (arcs[j].quadrant == q && ArcEndIndex::EndDistance(probe, arcs[j]) <= radius) want.push_back(j);
           }
@@ -69,11 +72,11 @@ TEST(ArcEndIndex, EmptyAndSinglePointFrames) {
   Arc probe;
   probe.quadrant = 1;
   int calls = 0;
-  index.ForEachNear(arcs, probe, 1, 10, [&](int) { ++calls; });
+  index.ForEachNear(arcs, probe, 1, 10, [&](int, double) { ++calls; });
   EXPECT_EQ(calls, 0);
   arcs.push_back(probe);  // both ends at the origin: a one-cell grid
   index.Build(arcs);
-  index.ForEachNear(arcs, probe, 1, 0, [&](int) { ++calls; });
+  index.ForEachNear(arcs, probe, 1, 0, [&](int, double) { ++calls; });
   EXPECT_EQ(calls, 1);
 }
 
@@ -197,7 +200,7 @@ TEST(CrowdedScenes, EveryRingOfA15x10GridIsFound) {
 }
 
 // The triplet budget cut to a quarter of what a 300-dot frame examines: pass 1 gives every
-// middle arc of the frame an equal share, visited spread over the frame (grouping.cc OrderArcs),
+// middle arc of the frame an equal share, visited spread over the frame (grouping.cc SpreadOverFrame),
 // so each quadrant of the layout keeps its share of the detections. (A frame that exhausts the
 // budget also skips the two-arc candidates, fit/grouping.h; the dots are large enough here for
 // triplets.)
