@@ -85,6 +85,16 @@ void EditOptionMore(int field, int v, Options* o) {
   }
 }
 
+ImageView FuzzView(const std::uint8_t* pixels, const std::uint8_t* never_read, bool null_data, bool sane_geometry,
+                   int w, int h, std::ptrdiff_t stride) {
+  ImageView view;
+  view.data = null_data ? nullptr : (sane_geometry ? pixels : never_read);
+  view.width = w;
+  view.height = h;
+  view.stride = stride;
+  return view;
+}
+
 void CheckResult(const DetectionResult& r, int w, int h, const Options& o) {
   const Status none;
   if (r.num_edge_pixels < 0 || static_cast<long long>(r.num_edge_pixels) > static_cast<long long>(w) * h)

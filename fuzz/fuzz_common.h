@@ -42,6 +42,12 @@ void EditOption(int field, int v, Options* o);
 // and non-finite values too.
 void EditOptionMore(int field, int v, Options* o);
 
+// The view a harness hands detect(): a null data pointer when asked (null_data); `never_read` (any
+// non-null pointer, which detect() must refuse before touching) when the geometry is not sane;
+// else `pixels`.
+ImageView FuzzView(const std::uint8_t* pixels, const std::uint8_t* never_read, bool null_data, bool sane_geometry,
+                   int w, int h, std::ptrdiff_t stride);
+
 // Aborts unless an ok result of a frame of w x h pixels under options `o` is consistent: counts
 // within their bounds and caps, known cap flags, every ellipse finite with a >= b > 0 and theta in
 // [-pi/2, pi/2), timings not negative.

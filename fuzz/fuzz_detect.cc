@@ -60,12 +60,7 @@ int DetectOneInput(const std::uint8_t* data, std::size_t size) {
     buffer = std::make_unique<std::uint8_t[]>(pixels.size());
     std::copy(pixels.begin(), pixels.end(), buffer.get());
   }
-  ImageView view;
-  view.data = (shape & 0x08) ? nullptr : buffer.get();
-  if (!sane_geometry && !(shape & 0x08)) view.data = data;  // any non-null pointer; must not be read
-  view.width = w;
-  view.height = h;
-  view.stride = stride;
+  const ImageView view = FuzzView(buffer.get(), data, (shape & 0x08) != 0, sane_geometry, w, h, stride);
 
   const Status options_ok = ValidateOptions(options);
   const Status image_ok = options_ok.ok() ? ValidateImage(view, options) : options_ok;

@@ -312,12 +312,7 @@ int DetectCpuOneInput(const std::uint8_t* data, std::size_t size) {
       for (std::size_t i = 0; i < buffer_size; ++i) buffer[i] = n ? src[i % n] : 0;
     }
   }
-  ImageView view;
-  view.data = (flags & 0x02) ? nullptr : buffer.get();
-  if (!sane_geometry && !(flags & 0x02)) view.data = data;  // any non-null pointer; must not be read
-  view.width = w;
-  view.height = h;
-  view.stride = stride;
+  const ImageView view = FuzzView(buffer.get(), data, (flags & 0x02) != 0, sane_geometry, w, h, stride);
 
   const Status options_ok = ValidateOptions(options);
   const Status image_ok = options_ok.ok() ? ValidateImage(view, options) : options_ok;
