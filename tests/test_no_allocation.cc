@@ -20,6 +20,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ellipsekit/detector.h"
+#include "tools/scenes/crowded_scenes.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
@@ -147,15 +148,31 @@ void Frames(cv::Mat* a, cv::Mat* b) {
   *b = ellipsekit::scenes::RenderScene(ellipsekit::scenes::MixSeed(7, 1)).gray;
 }
 
-void ExpectNoAllocation(Backend backend) {
+// Two crowded 1280x720 frames (tools/scenes/crowded_scenes.h): 300 dots and a crate of 150 can
+// tops, so the arc-end index, the pair partners, the centre grid of the clustering and (with a
+// small triplet budget) the spread order all run at their crowded sizes.
+void CrowdedFrames(cv::Mat* a, cv::Mat* b) {
+  ellipsekit::scenes::CrowdedSceneOptions o;
+  o.width = 1280;
+  o.height = 720;
+  o.layout = ellipsekit::scenes::CrowdedLayout::kDotGrid;
+  o.objects = 300;
+  *a = ellipsekit::scenes::RenderCrowdedScene(3, o).gray;
+  o.layout = ellipsekit::scenes::CrowdedLayout::kCanCrate;
+  o.objects = 150;
+  *b = ellipsekit::scenes::RenderCrowdedScene(4, o).gray;
+}
+
+void ExpectNoAllocation(Backend backend, void (*frames)(cv::Mat*, cv::Mat*) = Frames, int max_triplets = 0) {
   ellipsekit::Options o;
   o.backend = backend;
+  if (max_triplets > 0) o.max_triplets = max_triplets;
   ellipsekit::Detector det(o);
   if (!det.status().ok()) {
     GTEST_SKIP() << ellipsekit::BackendName(backend) << " unavailable: " << det.status().message();
   }
   cv::Mat a, b;
-  Frames(&a, &b);
+  frames(&a, &b);
   ASSERT_FALSE(a.empty());
   ASSERT_EQ(a.size(), b.size());
   ellipsekit::DetectionResult r;
@@ -188,6 +205,8 @@ void ExpectNoAllocation(Backend backend) {
 TEST(NoAllocation, Scalar) { ExpectNoAllocation(Backend::kScalar); }
 TEST(NoAllocation, Simd) { ExpectNoAllocation(Backend::kSimd); }
 TEST(NoAllocation, Vulkan) { ExpectNoAllocation(Backend::kVulkan); }
+TEST(NoAllocation, CrowdedFrames) { ExpectNoAllocation(Backend::kSimd, CrowdedFrames); }
+TEST(NoAllocation, CrowdedFramesSpentBudget) { ExpectNoAllocation(Backend::kSimd, CrowdedFrames, 200); }
 
 // The counter itself works (guards against a hook that silently is not linked in).
 TEST(NoAllocation, CounterSeesAllocations) {
