@@ -213,10 +213,13 @@ TEST_P(DetectorE2E, RecoversHalfOccludedEllipses) {
   ASSERT_GE(t.truth, kMinTruth);
   // Half the rim leaves one full quadrant and two half quadrants, so the arc triplet is short and
   // the fit less exact: measured (seeds 5000.., 40 ellipses, min_edge_coverage 0.4) 17 of 40 within
-  // 1 px / 2 % / 2 deg, 22 of 40 with Jaccard > 0.8 (the detector needs arcs from three quadrants).
-  EXPECT_GE(t.found_jaccard, 5);
-  // The occluders' straight edges must not produce ellipses of their own.
-  EXPECT_LE(t.false_positives, 2);
+  // 1 px / 2 % / 2 deg, 22 of 40 with Jaccard > 0.8 (the detector needs arcs from three quadrants),
+  // 0 false positives, both backends. Floors: the measured counts less two (a tenth), so losing a
+  // few of these fails here.
+  EXPECT_GE(t.found_jaccard, 20);
+  EXPECT_GE(t.found, 15);
+  // The occluders' straight edges must not produce ellipses of their own (measured 0).
+  EXPECT_LE(t.false_positives, 1);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, DetectorE2E, ::testing::Values(Backend::kScalar, Backend::kAuto),

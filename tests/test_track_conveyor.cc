@@ -143,14 +143,18 @@ TEST_P(TrackConveyor, SpeedGraspAndPosition) {
       speed, info.length_m, info.length_m / speed, tracked, co.frames, can_ids.size(), 100 * speed_med,
       100 * Percentile(speed_err, 95), speed_err.size(), 1000 * grasp_med, 1000 * grasp_p95, grasp_err.size(),
       1000 * pos_med, 1000 * Percentile(pos_err, 95));
-  EXPECT_GE(tracked, static_cast<int>(0.9 * co.frames));
+  // Measured over the four speeds (25, 50, 75, 100 mm/s): tracked 88 of 90 frames; speed error
+  // median 0.02-0.04 % (p95 0.43-1.61 %); grasp target error median 0.01-0.02 mm, p95 0.03-0.20 mm;
+  // position error median 0.26-0.28 mm. Bounds: a few times the largest measured value, so a
+  // regression of a fraction of a millimetre fails (the old bounds were 5 % / 5 mm / 5 mm).
+  EXPECT_GE(tracked, co.frames - 5);
   EXPECT_EQ(can_ids.size(), 1u);
   ASSERT_FALSE(speed_err.empty());
-  EXPECT_LE(speed_med, 0.05);
-  ASSERT_GE(grasp_err.size(), 10u);
-  EXPECT_LE(grasp_med, 0.005);
-  EXPECT_LE(grasp_p95, 0.010);
-  EXPECT_LE(pos_med, 0.005);
+  EXPECT_LE(speed_med, 0.002);
+  ASSERT_GE(grasp_err.size(), 50u);
+  EXPECT_LE(grasp_med, 0.0001);
+  EXPECT_LE(grasp_p95, 0.0005);
+  EXPECT_LE(pos_med, 0.0006);
   EXPECT_LE(Percentile(lead_err, 100), 1e-4);
   EXPECT_LE(Percentile(pre_err, 100), 1e-4);
   fs::remove_all(dir);
