@@ -176,6 +176,28 @@ ellipsekit::Status RenderConveyorSequence(std::uint64_t seed, const ConveyorScen
   return world.BuildConveyor(options, seed, info, sink);
 }
 
+const char* ContainerName(Container c) {
+  switch (c) {
+    case Container::kFlatCan: return "flat-can";
+    case Container::kRecessedCan: return "recessed-can";
+    case Container::kCupEmpty: return "cup";
+    case Container::kCupFilled: return "filled-cup";
+    case Container::kJar: return "jar";
+  }
+  return "?";
+}
+
+bool ParseContainer(const std::string& name, Container* out) {
+  for (Container c : {Container::kFlatCan, Container::kRecessedCan, Container::kCupEmpty, Container::kCupFilled,
+                      Container::kJar}) {
+    if (name == ContainerName(c)) {
+      *out = c;
+      return true;
+    }
+  }
+  return false;
+}
+
 // ---------------------------------------------------------------- stacking and crossing sequences
 cv::Vec3d CanSequence::TopCentreAt(int can, double t) const {
   if (can < 0 || can >= static_cast<int>(start_point.size())) return cv::Vec3d(0, 0, 0);
@@ -320,6 +342,14 @@ std::string CameraJson(int width, int height, const cv::Matx33d& K, const cv::Ma
          ", \"T_world_camera\": " + JsonList(T_world_camera.val, T_world_camera.val + 16, "%.17g") + "}\n";
 }
 
+// The rim circle of a top in truth.jsonl; nothing for the original flat can (its files unchanged).
+std::string RimJson(Container c, const RimCircle& rim) {
+  if (c == Container::kFlatCan) return "";
+  return ", \"container\": \"" + std::string(ContainerName(c)) + "\", \"rim\": {\"centre\": " +
+         JsonList(rim.centre.val, rim.centre.val + 3, "%.6f") + ", \"normal\": " +
+         JsonList(rim.normal.val, rim.normal.val + 3, "%.6f") + ", \"radius\": " + Fmt("%.6f", rim.radius) + "}";
+}
+
 }  // namespace
 
 ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t seed,
@@ -340,7 +370,7 @@ ellipsekit::Status WriteConveyorSequence(const std::string& dir, std::uint64_t s
     truth += "{\"t\": " + Fmt("%.9g", fr.t) + ", \"tops\": [{\"centre\": " +
              JsonList(fr.top_centre.val, fr.top_centre.val + 3, "%.6f") +
              ", \"pixel\": " + JsonList(fr.top_pixel.val, fr.top_pixel.val + 2, "%.4f") +
-             ", \"ellipse\": " + JsonList(el, el + 5, "%.6f") + "}]}\n";
+             ", \"ellipse\": " + JsonList(el, el + 5, "%.6f") + RimJson(options.container, fr.rim) + "}]}\n";
     return Status::Ok();
   });
   if (!st.ok()) return st;
@@ -379,7 +409,7 @@ ellipsekit::Status WriteCanSequence(const std::string& dir, std::uint64_t seed, 
       truth += "{\"centre\": " + JsonList(fr.top_centre[k].val, fr.top_centre[k].val + 3, "%.6f") +
                ", \"pixel\": " + JsonList(fr.top_pixel[k].val, fr.top_pixel[k].val + 2, "%.4f") +
                ", \"ellipse\": " + JsonList(el, el + 5, "%.6f") + ", \"rim_visible\": " +
-               Fmt("%.4f", fr.rim_visible[k]) + "}";
+               Fmt("%.4f", fr.rim_visible[k]) + RimJson(options.containers[k], fr.rim[k]) + "}";
     }
     truth += "]}\n";
     return Status::Ok();

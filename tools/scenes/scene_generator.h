@@ -17,6 +17,7 @@
 // same seed and options give identical pixels and truth (no std:: distributions, no threads).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -68,6 +69,32 @@ std::uint64_t MixSeed(std::uint64_t seed, std::uint64_t index);
 // One ground-truth line, "%.4f %.4f %.4f %.4f %.6f" (no newline).
 std::string FormatTruthLine(const ellipsekit::Ellipse& e);
 
+// ---------------------------------------------------------------- container geometry (sequences)
+// What rides the conveyor or stands in a stacking / crossing scene. kFlatCan is the original can (a
+// flat lid with a printed rim ring; the default, so the default scenes stay as they were); the
+// others are real container geometry, each with its own random shape drawn from a separate stream
+// (placement, camera, clutter and colours are those of the same seed's flat can):
+//   kRecessedCan  a drink can: rolled rim bead 2-3.5 mm wide at the top, the lid's floor 3-6 mm
+//                 below it (metal: inner wall and floor in the lid's colour, lit from the open top)
+//   kCupEmpty     an open cup, wall 2-4 mm, inner floor 6-12 mm above the table
+//   kCupFilled    the same cup filled to 45-85 % of its height (contents unlike the inner wall)
+//   kJar          a body with a shoulder and a screw lid 4-8 mm narrower in radius, 8-14 mm tall
+// metal_top makes the lid (and a recessed lid's floor) strongly specular. The rim circle (truth) is
+// the top edge of the outermost ring seen from above: the can's rim bead, the cup's lip, the jar's
+// lid; centre at the top height, normal +z (world), radius rim_radius_m.
+enum class Container { kFlatCan, kRecessedCan, kCupEmpty, kCupFilled, kJar };
+
+// "flat-can", "recessed-can", "cup", "filled-cup", "jar".
+const char* ContainerName(Container c);
+// The inverse of ContainerName; false for an unknown name.
+bool ParseContainer(const std::string& name, Container* out);
+
+struct RimCircle {
+  cv::Vec3d centre;               // world metres
+  cv::Vec3d normal{0, 0, 1};      // world, unit
+  double radius = 0;              // metres
+};
+
 // ---------------------------------------------------------------- conveyor sequences
 // One can riding a straight guide on the table (same ray caster, camera, light, table and flat
 // clutter as RenderScene; no boxes, so nothing occludes the can). The can starts at the guide's
@@ -87,6 +114,8 @@ struct ConveyorSceneOptions {
   double noise_sigma = 3.0, blur_sigma = 0.8;  // as SceneOptions
   double depth_noise_mm = 1.0;
   double depth_invalid_fraction = 0.01;
+  Container container = Container::kFlatCan;  // what rides the guide (see Container)
+  bool metal_top = false;
 };
 
 struct ConveyorFrame {
@@ -97,6 +126,7 @@ struct ConveyorFrame {
   cv::Vec3d top_centre;          // true top centre, world metres
   cv::Vec2d top_pixel;           // its projection (pixels)
   ellipsekit::Ellipse truth;     // exact image ellipse of the top rim
+  RimCircle rim;                 // the rim circle (centre == top_centre)
 };
 
 struct ConveyorSequence {
@@ -107,6 +137,9 @@ struct ConveyorSequence {
   cv::Vec2d start_pixel, end_pixel;  // their projections
   double speed_m_s = 0, length_m = 0, radius_m = 0, height_m = 0, fps = 30;
   int frames = 0;
+  Container container = Container::kFlatCan;
+  double rim_radius_m = 0;       // the rim circle's radius (radius_m but for a jar's lid)
+  double recess_m = 0;           // recessed can: lid floor below the rim; filled cup: fill below the lip
 
   // Position along the guide (metres from the start end) and the true top centre at time t
   // (any t >= 0, also beyond the last frame).
@@ -162,6 +195,8 @@ struct CanSceneOptions {
   double noise_sigma = 3.0, blur_sigma = 0.8;
   double depth_noise_mm = 1.0;
   double depth_invalid_fraction = 0.01;
+  std::array<Container, 2> containers{Container::kFlatCan, Container::kFlatCan};  // can 0, can 1
+  bool metal_top = false;
 };
 
 struct CanFrame {
@@ -173,6 +208,7 @@ struct CanFrame {
   std::vector<cv::Vec2d> top_pixel;        // its projection
   std::vector<ellipsekit::Ellipse> truth;  // exact image ellipse of each top rim
   std::vector<double> rim_visible;         // share of each top rim not hidden by the other can
+  std::vector<RimCircle> rim;              // per can: the rim circle (centre == top_centre)
 };
 
 struct CanSequence {
@@ -185,6 +221,8 @@ struct CanSequence {
   // Per can: the lid's rim ring is rim_width_m wide (0 without one); the top's image then has
   // edges at radius_m, radius_m - rim_width_m and (the countersink groove) 2 mm further in.
   std::vector<double> rim_width_m;
+  std::vector<Container> container;         // per can
+  std::vector<double> rim_radius_m;         // per can: the rim circle's radius
   std::vector<cv::Vec3d> start_point;       // top centre at t = 0, world metres
   std::vector<cv::Vec3d> velocity_m_s;      // world; zero for a static scene
 

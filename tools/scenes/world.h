@@ -140,6 +140,13 @@ struct Cylinder {
   double neck_width = 0, neck_albedo = 0.5;
   double spec = 0, shininess = 10;
   double top_scale = 1;  // contrast fix: multiplies every top-related albedo
+  // Real container geometry (scene_generator.h, Container); all zero for the original shapes.
+  double recess = 0;          // can: the lid's floor lies this far below the rolled rim (r_in..r)
+  double floor_albedo = -1;   // cup: the contents' surface at z_floor (>= 0: filled)
+  double lid_r = 0;           // jar: a lid narrower than the body, from shoulder_h up to h
+  double shoulder_h = 0;
+  bool metal_top = false;     // strong specular lid (and lid floor)
+  double rim_r() const { return lid_r > 0 ? lid_r : r; }  // radius of the top rim circle
   IRect bbox;
   TRect shadow;
   IRect shadow_bbox;
@@ -229,7 +236,7 @@ struct Shape {
 
 enum class TableKind { kWood, kMottled, kPlain };
 
-enum Part : int { kBackground, kTable, kWall, kSide, kTop, kInner, kFloor, kBoxFace };
+enum Part : int { kBackground, kTable, kWall, kSide, kTop, kInner, kFloor, kBoxFace, kLidSide, kShoulder };
 
 struct Hit {
   double s = kInf;
@@ -268,6 +275,8 @@ class World {
   bool PlaceShape(ShapeKind kind);
   void PlaceCylinders();
   void ColorCylinder(Cylinder* c);
+  // Turns a sequence can (ColorCylinder'd, SetCanShape'd) into `kind`; draws only from `rng`.
+  static void ShapeContainer(Container kind, bool metal_top, Rng* rng, Cylinder* c);
   bool ComputeTruth(Cylinder* c) const;
   void FinishCylinderBounds(Cylinder* c) const;
   bool TopFitsAt(Cylinder c, double x, double y) const;
@@ -279,6 +288,7 @@ class World {
 
   // ray casting
   bool IntersectCylinder(const Cylinder& c, V3 D, double s_max, Hit* h) const;
+  bool IntersectJar(const Cylinder& c, V3 D, double s_max, Hit* h) const;
   bool IntersectBox(const Box& b, V3 O, V3 D, double s_max, Hit* h) const;
   void Trace(V3 D, int px, int py, Hit* h) const;
   bool OccludedBefore(V3 D, double s_max, int px, int py, int skip_cyl) const;

@@ -8,7 +8,52 @@
 namespace ellipsekit::scenes::detail {
 
 // ---------------------------------------------------------------- ray casting
+// A jar with a narrower lid: the lid (top disc and side, shoulder_h..h) on the body (shoulder ring
+// and side, 0..shoulder_h); the nearest of the four surfaces.
+bool World::IntersectJar(const Cylinder& c, V3 D, double s_max, Hit* h) const {
+  const V3 O = cam_.pos;
+  const double ox = O.x - c.x, oy = O.y - c.y;
+  double best = s_max, rho2 = 0;
+  int part = -1;
+  auto disc = [&](double z, double rmin2, double rmax2, int p) {
+    if (D.z >= 0) return;
+    const double st = (z - O.z) / D.z;
+    if (!(st > 0 && st < best)) return;
+    const double qx = ox + st * D.x, qy = oy + st * D.y, rr = qx * qx + qy * qy;
+    if (rr <= rmax2 && rr >= rmin2) {
+      best = st;
+      part = p;
+      rho2 = rr;
+    }
+  };
+  auto side = [&](double r2, double z0, double z1, int p) {
+    const double A = D.x * D.x + D.y * D.y;
+    if (A < 1e-18) return;
+    const double B = ox * D.x + oy * D.y, C = ox * ox + oy * oy - r2;
+    const double d = B * B - A * C;
+    if (d < 0) return;
+    const double s1 = (-B - std::sqrt(d)) / A;
+    if (!(s1 > 0 && s1 < best)) return;
+    const double z = O.z + s1 * D.z;
+    if (z < z0 || z > z1) return;
+    best = s1;
+    part = p;
+  };
+  const double lr2 = c.lid_r * c.lid_r;
+  disc(c.h, 0, lr2, kTop);
+  side(lr2, c.shoulder_h, c.h, kLidSide);
+  disc(c.shoulder_h, lr2, c.r2, kShoulder);
+  side(c.r2, 0, c.shoulder_h, kSide);
+  if (part < 0) return false;
+  h->s = best;
+  h->part = part;
+  h->p = O + D * best;
+  h->rho2 = rho2;
+  return true;
+}
+
 bool World::IntersectCylinder(const Cylinder& c, V3 D, double s_max, Hit* h) const {
+  if (c.lid_r > 0) return IntersectJar(c, D, s_max, h);
   const V3 O = cam_.pos;
   const double ox = O.x - c.x, oy = O.y - c.y;
   if (D.z < 0) {  // the top plane, seen from above
@@ -17,8 +62,8 @@ bool World::IntersectCylinder(const Cylinder& c, V3 D, double s_max, Hit* h) con
       const double qx = ox + st * D.x, qy = oy + st * D.y;
       const double rr = qx * qx + qy * qy;
       if (rr <= c.r2) {
-        if (c.kind == CylKind::kCup && rr < c.r_in2) {
-          // Into the cup: the inner wall (far side) or the floor.
+        if ((c.kind == CylKind::kCup || c.recess > 0) && rr < c.r_in2) {
+          // Into the cup (or a can's recessed lid): the inner wall (far side) or the floor.
           const double A = D.x * D.x + D.y * D.y;
           double s_hit = kInf;
           int part = kFloor;
@@ -312,13 +357,20 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
       albedo = c.top_albedo;
       if (c.has_rim) {
         const double rho = std::sqrt(h.rho2);
-        if (rho > c.r - c.rim_width)
+        if (rho > c.rim_r() - c.rim_width)
           albedo = c.rim_albedo;
-        else if (c.kind == CylKind::kCan && rho > c.r - c.rim_width - 0.002)
+        else if (c.kind == CylKind::kCan && c.recess == 0 && rho > c.r - c.rim_width - 0.002)
           albedo = c.top_albedo * 0.8;  // the lid's countersink groove
       }
       albedo = std::min(albedo * c.top_scale, 1.0);
       lit = ambient_ + diffuse_ * light_.z;
+      if (c.recess > 0) {  // the rolled rim: a bead whose normal turns from inward to outward
+        const double rho = std::sqrt(h.rho2);
+        const double t = Clamp((rho - c.r_in) / std::max(1e-6, c.r - c.r_in), 0.0, 1.0);
+        const double ang = (t - 0.5) * 0.8 * kPi, sa = std::sin(ang);
+        const V3 n{(P.x - c.x) / std::max(rho, 1e-9) * sa, (P.y - c.y) / std::max(rho, 1e-9) * sa, std::cos(ang)};
+        lit = ambient_ + diffuse_ * std::max(0.0, Dot(n, light_));
+      }
       if (c.spec > 0) {
         const V3 Hh = Normalize(light_ + Normalize(cam_.pos - P));
         spec = 0.5 * c.spec * std::pow(std::max(0.0, Hh.z), 4 * c.shininess);
@@ -330,13 +382,31 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
       const V3 n{-(P.x - c.x) / c.r_in, -(P.y - c.y) / c.r_in, 0};
       albedo = std::min(c.inner_albedo * c.top_scale, 1.0);
       const double depth = Clamp((P.z - c.z_floor) / std::max(1e-6, c.h - c.z_floor), 0.0, 1.0);
-      lit = ambient_ * (0.4 + 0.6 * depth) + diffuse_ * std::max(0.0, Dot(n, light_)) * CupLit(c, P);
+      const double ao = c.recess > 0 ? 0.8 + 0.2 * depth : 0.4 + 0.6 * depth;  // a shallow lid sees the sky
+      lit = ambient_ * ao + diffuse_ * std::max(0.0, Dot(n, light_)) * CupLit(c, P);
       break;
     }
     case kFloor: {
       const Cylinder& c = cyl_[h.obj];
-      albedo = std::min(c.inner_albedo * c.top_scale, 1.0);
-      lit = ambient_ * 0.4 + diffuse_ * light_.z * CupLit(c, P);
+      albedo = std::min((c.floor_albedo >= 0 ? c.floor_albedo : c.inner_albedo) * c.top_scale, 1.0);
+      lit = ambient_ * (c.recess > 0 ? 0.8 : 0.4) + diffuse_ * light_.z * CupLit(c, P);
+      if (c.recess > 0 && c.spec > 0) {  // the lid's metal floor
+        const V3 Hh = Normalize(light_ + Normalize(cam_.pos - P));
+        spec = 0.5 * c.spec * std::pow(std::max(0.0, Hh.z), 4 * c.shininess) * CupLit(c, P);
+      }
+      break;
+    }
+    case kLidSide: {
+      const Cylinder& c = cyl_[h.obj];
+      const V3 n{(P.x - c.x) / c.lid_r, (P.y - c.y) / c.lid_r, 0};
+      albedo = std::min(c.top_albedo * c.top_scale, 1.0);
+      lit = ambient_ + diffuse_ * std::max(0.0, Dot(n, light_));
+      break;
+    }
+    case kShoulder: {
+      const Cylinder& c = cyl_[h.obj];
+      albedo = 0.85 * c.side_albedo;
+      lit = ambient_ + diffuse_ * light_.z;
       break;
     }
     case kBoxFace: {

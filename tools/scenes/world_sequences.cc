@@ -51,6 +51,8 @@ ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uin
   can.h = rng_.Uniform(0.08, 0.12);
   SetCanShape(&can);
   ColorCylinder(&can);
+  Rng crng(Mix64(seed ^ 0x3C6EF372FE94F82Bull));  // container shape: its own stream
+  ShapeContainer(co.container, co.metal_top, &crng, &can);
 
   // The guide: through the table point below the image centre, roughly along the image rows.
   V3 mid;
@@ -101,6 +103,9 @@ ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uin
   seq.height_m = can.h;
   seq.fps = co.fps;
   seq.frames = co.frames;
+  seq.container = co.container;
+  seq.rim_radius_m = can.rim_r();
+  seq.recess_m = can.recess > 0 ? can.recess : (can.floor_albedo >= 0 ? can.h - can.z_floor : 0);
   if (info != nullptr) *info = seq;
 
   Rng drng(Mix64(seed ^ 0x6A09E667F3BCC909ull));
@@ -124,6 +129,8 @@ ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uin
     cam_.Project(V3{p[0], p[1], p[2]}, &u, &v);
     fr.top_pixel = cv::Vec2d(u, v);
     fr.truth = c.truth;
+    fr.rim.centre = p;
+    fr.rim.radius = c.rim_r();
     if (ellipsekit::Status st = sink(fr); !st.ok()) return st;
   }
   return Status::Ok();
@@ -145,6 +152,8 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
   }
   if (crossing) cans[0].h = cans[1].h + co.crossing_height_difference_m;
   for (Cylinder& c : cans) SetCanShape(&c);
+  Rng crng(Mix64(seed ^ 0x3C6EF372FE94F82Bull));  // container shapes: their own stream
+  for (int k = 0; k < 2; ++k) ShapeContainer(co.containers[static_cast<std::size_t>(k)], co.metal_top, &crng, &cans[k]);
   // The camera height from the distance to the tops along the optical axis.
   const double d = rng_.Uniform(co.min_distance_m, co.max_distance_m);
   const double h_ref = crossing ? cans[1].h : 0.5 * (cans[0].h + cans[1].h);
@@ -214,6 +223,8 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
     seq.radius_m.push_back(cans[k].r);
     seq.height_m.push_back(cans[k].h);
     seq.rim_width_m.push_back(cans[k].has_rim ? cans[k].rim_width : 0.0);
+    seq.container.push_back(co.containers[static_cast<std::size_t>(k)]);
+    seq.rim_radius_m.push_back(cans[k].rim_r());
   }
 
   PlaceClutter();
@@ -268,6 +279,10 @@ ellipsekit::Status World::BuildCans(const CanSceneOptions& co, std::uint64_t see
       fr.top_pixel.push_back(cv::Vec2d(u, v));
       fr.truth.push_back(cyl_[k].truth);
       fr.rim_visible.push_back(RimVisibleFraction(k, false, 0));
+      RimCircle rim;
+      rim.centre = p;
+      rim.radius = cyl_[k].rim_r();
+      fr.rim.push_back(rim);
     }
     if (ellipsekit::Status st = sink(fr); !st.ok()) return st;
   }

@@ -262,9 +262,62 @@ void World::ColorCylinder(Cylinder* c) {
   c->print_albedo = rng_.Uniform(0.05, 0.95);
 }
 
+void World::ShapeContainer(Container kind, bool metal_top, Rng* rng, Cylinder* c) {
+  switch (kind) {
+    case Container::kFlatCan:
+      break;
+    case Container::kRecessedCan:  // 330 ml style: rolled rim bead, lid floor 3-6 mm down
+      c->recess = rng->Uniform(0.003, 0.006);
+      c->rim_width = rng->Uniform(0.002, 0.0035);
+      c->r_in = c->r - c->rim_width;
+      c->r_in2 = c->r_in * c->r_in;
+      c->z_floor = c->h - c->recess;
+      c->inner_albedo = c->top_albedo;
+      break;
+    case Container::kCupEmpty:
+    case Container::kCupFilled: {
+      c->kind = CylKind::kCup;
+      c->has_rim = false;
+      c->has_neck = false;
+      c->r_in = c->r - rng->Uniform(0.002, 0.004);
+      c->r_in2 = c->r_in * c->r_in;
+      c->top_albedo = Clamp(c->side_albedo * rng->Uniform(1.0, 1.25), 0.05, 0.95);  // lip
+      c->inner_albedo = Clamp(c->side_albedo * rng->Uniform(0.8, 1.0), 0.05, 0.95);
+      c->spec = rng->Uniform(0.0, 0.15);
+      c->z_floor = rng->Uniform(0.006, 0.012);
+      if (kind == Container::kCupFilled) {
+        c->z_floor = c->h * rng->Uniform(0.45, 0.85);
+        double a;
+        do {
+          a = rng->Uniform(0.05, 0.9);  // coffee .. milk, unlike the wall
+        } while (std::abs(a - c->inner_albedo) < 0.15);
+        c->floor_albedo = a;
+      }
+      break;
+    }
+    case Container::kJar:  // glass body with a shoulder, a narrower screw lid on top
+      c->kind = CylKind::kJar;
+      c->lid_r = c->r - rng->Uniform(0.004, 0.008);
+      c->shoulder_h = c->h - rng->Uniform(0.008, 0.014);
+      c->has_neck = false;
+      c->has_rim = rng->Chance(0.5);
+      c->rim_width = rng->Uniform(0.002, 0.004);
+      do {
+        c->top_albedo = rng->Uniform(0.1, 0.9);
+      } while (std::abs(c->top_albedo - c->side_albedo) < 0.15);
+      c->rim_albedo = Clamp(c->top_albedo + (rng->Chance(0.5) ? 1 : -1) * rng->Uniform(0.08, 0.2), 0.05, 0.95);
+      break;
+  }
+  if (metal_top) {
+    c->metal_top = true;
+    c->spec = rng->Uniform(0.6, 1.1);
+    c->shininess = rng->Uniform(6, 20);
+  }
+}
+
 bool World::ComputeTruth(Cylinder* c) const {
   const cv::Matx33d q = ProjectCircleConic(cam_.K(), cam_.R(), cam_.T(), cv::Vec3d(c->x, c->y, c->h),
-                                           cv::Vec3d(1, 0, 0), cv::Vec3d(0, 1, 0), c->r);
+                                           cv::Vec3d(1, 0, 0), cv::Vec3d(0, 1, 0), c->rim_r());
   return ConicToEllipse(q, &c->truth);
 }
 
@@ -318,7 +371,7 @@ double World::RimVisibleFraction(int i, bool stop_early_below, double thr) const
   int visible = 0;
   for (int k = 0; k < 360; ++k) {
     const double phi = 2 * kPi * k / 360.0;
-    const V3 P{c.x + c.r * std::cos(phi), c.y + c.r * std::sin(phi), c.h};
+    const V3 P{c.x + c.rim_r() * std::cos(phi), c.y + c.rim_r() * std::sin(phi), c.h};
     double u, v;
     if (!cam_.Project(P, &u, &v)) continue;
     const V3 D = P - cam_.pos;  // s = 1 at the rim point
@@ -387,7 +440,7 @@ double World::ContrastPassFraction(int i) const {
   int seen = 0, pass = 0;
   for (int k = 0; k < 72; ++k) {
     const double phi = 2 * kPi * k / 72.0;
-    const V3 P{c.x + c.r * std::cos(phi), c.y + c.r * std::sin(phi), c.h};
+    const V3 P{c.x + c.rim_r() * std::cos(phi), c.y + c.rim_r() * std::sin(phi), c.h};
     double u, v;
     if (!cam_.Project(P, &u, &v)) continue;
     if (OccludedBefore(P - cam_.pos, 1 - 1e-9, static_cast<int>(std::lround(u)), static_cast<int>(std::lround(v)),
