@@ -13,6 +13,7 @@
 // Output: one JSON object per frame (see kTrackUsage), world frame, metres; written to a temporary
 // file beside FILE, then renamed.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -40,15 +41,21 @@
 #include "ellipsekit/robot/depth_sampling.h"
 #include "ellipsekit/robot/grasp.h"
 #include "ellipsekit/robot/kalman.h"
+#include "ellipsekit/robot/frame_loop.h"
 #include "ellipsekit/robot/tracker.h"
 #include "tools/cli/args.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/json.h"
+#include "tools/cli/track_draw.h"
+#ifdef ELLIPSEKIT_HAVE_VIDEOIO
+#include <opencv2/videoio.hpp>
+#endif
 
 namespace ellipsekit::cli {
 
 const char kTrackUsage[] =
-    "Usage: ellipsekit track SEQ_DIR [--conveyor] [--radius R] [--latency S] --out FILE.jsonl\n"
+    "Usage: ellipsekit track SEQ_DIR [--conveyor] [--radius R] [--latency S] [--centre rim|interior]\n"
+    "                        [--draw DIR] [--video FILE] --out FILE.jsonl\n"
     "\n"
     "Detects and tracks cylinder tops in a sequence directory (frames/NNNNNN.png, optional\n"
     "depth/NNNNNN.png in uint16 mm, timestamps.txt, camera.json, conveyor.json with --conveyor)\n"
@@ -56,14 +63,21 @@ const char kTrackUsage[] =
     "  {\"t\": T, \"tracks\": [{\"id\": N, \"state\": \"tentative\"|\"confirmed\"|\"lost\",\n"
     "    \"pixel\": [u, v], \"position\": [x, y, z], \"velocity\": [vx, vy, vz]}],\n"
     "   \"grasp\": null | {\"t\": T, \"target\": [x, y, z], \"position\": [x, y, z], \"pregrasp\": [x, y, z]}}\n"
-    "A track's position is the top centre (from depth; from the circle pose with --radius when the\n"
-    "sequence has no depth). grasp.t = frame time + latency; target = top centre predicted then;\n"
+    "A track's position is the centre of the top's rim circle (from depth on the rim by default;\n"
+    "the median depth inside the ellipse with --centre interior, for flat discs; from the circle pose\n"
+    "with --radius when the sequence has no depth). grasp.t = frame time + latency; target = top centre\n"
+    "predicted then; "
     "position = 2 cm ahead along the motion; pregrasp = 10 cm back along the approach.\n"
+    "The loop is the library's robot::FrameLoop (include/ellipsekit/robot/frame_loop.h).\n"
     "\n"
     "Options:\n"
     "  --conveyor        the object rides the guide of conveyor.json: speed and grasp planning\n"
     "  --radius R        top radius in metres (circle pose when there is no depth image)\n"
     "  --latency S       seconds from planning to the gripper at the pre-grasp pose (default 1.0)\n"
+    "  --centre M        rim (default: the rim plane's circle) or interior (median depth inside)\n"
+    "  --draw DIR        write each frame with its tracks drawn to DIR/NNNNNN.png (ellipse, id,\n"
+    "                    state, trail, the predicted grasp target projected)\n"
+    "  --video FILE      the same frames as one video (cv::VideoWriter; .avi: MJPG, .mp4: mp4v)\n"
     "  --out FILE        output JSON lines file (required)\n"
     "  -h, --help        this text\n";
 
@@ -354,18 +368,12 @@ std::string Vec(const Eigen::Vector3d& v, int digits = 5) {
   return s;
 }
 
-struct Track3D {
-  std::unique_ptr<robot::ConstantVelocityKalman> kf;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  bool has_position = false;
-  double last_t = 0;
-};
-
 }  // namespace
 
 int RunTrack(const std::vector<std::string>& argv) {
-  std::string dir, out;
+  std::string dir, out, draw_dir, video_path;
   bool conveyor = false;
+  robot::TopCentreMethod method = robot::TopCentreMethod::kRimPlane;
   double radius = 0, latency = 1.0;
   ArgReader r(argv);
   auto parse_double = [](const std::string& flag, const std::string& text, double lo, double hi) {
@@ -394,6 +402,19 @@ int RunTrack(const std::vector<std::string>& argv) {
       latency = parse_double(name, r.Value(), 0, 60);
     } else if (name == "--out") {
       out = r.Value();
+    } else if (name == "--draw") {
+      draw_dir = r.Value();
+    } else if (name == "--video") {
+      video_path = r.Value();
+    } else if (name == "--centre") {
+      const std::string m = r.Value();
+      if (m == "rim") {
+        method = robot::TopCentreMethod::kRimPlane;
+      } else if (m == "interior") {
+        method = robot::TopCentreMethod::kInteriorMedian;
+      } else {
+        throw UsageError("--centre: bad value '" + m + "' (rim or interior)");
+      }
     } else {
       throw UsageError("unknown option '" + name + "'");
     }
@@ -414,30 +435,46 @@ int RunTrack(const std::vector<std::string>& argv) {
     return kExitFailure;
   }
 
-  const Eigen::Matrix3d R_wc = seq.T_world_camera.topLeftCorner<3, 3>();
-  const Eigen::Vector3d t_wc = seq.T_world_camera.topRightCorner<3, 1>();
-  const Eigen::Vector3d up_cam = R_wc.transpose() * Eigen::Vector3d::UnitZ();  // table normal, camera frame
-
-  Detector detector;
-  if (!detector.status().ok()) {
-    std::fprintf(stderr, "ellipsekit track: %s\n", detector.status().message().c_str());
+  robot::FrameLoopOptions lopt;
+  lopt.T_world_camera = seq.T_world_camera;
+  lopt.top_centre = method;
+  lopt.top_radius_m = radius;
+  lopt.grasp.latency_s = latency;
+  if (seq.has_conveyor) lopt.conveyor = std::array<robot::ConveyorReference, 2>{seq.ref[0], seq.ref[1]};
+  robot::FrameLoop loop(seq.camera, lopt);
+  if (!loop.status().ok()) {
+    std::fprintf(stderr, "ellipsekit track: %s\n", loop.status().message().c_str());
     return kExitFailure;
   }
-  robot::TrackerOptions topt;
-  robot::EllipseTracker tracker(topt);
-  std::optional<robot::ConveyorTracker> belt;
-  if (seq.has_conveyor) {
-    auto c = robot::ConveyorTracker::Create(seq.ref[0], seq.ref[1], "world");
-    if (!c.ok()) {
-      std::fprintf(stderr, "ellipsekit track: %s: %s\n", (seq.dir / "conveyor.json").string().c_str(),
-                   c.status.message().c_str());
+  if (!draw_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(draw_dir, ec);
+    if (!fs::is_directory(draw_dir, ec)) {
+      std::fprintf(stderr, "ellipsekit track: %s: cannot create directory\n", draw_dir.c_str());
       return kExitFailure;
     }
-    belt = std::move(c.value);
   }
-  robot::GraspOptions gopt;
-  gopt.latency_s = latency;
-  std::int64_t belt_id = -1;  // the track riding the guide
+#ifdef ELLIPSEKIT_HAVE_VIDEOIO
+  cv::VideoWriter video;
+  if (!video_path.empty()) {
+    const std::string ext = fs::path(video_path).extension().string();
+    const int fourcc = ext == ".mp4" ? cv::VideoWriter::fourcc('m', 'p', '4', 'v') : cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+    const double span = seq.frames > 1 ? seq.times.back() - seq.times.front() : 0;
+    const double fps = span > 0 ? (seq.frames - 1) / span : 30;
+    if (!video.open(video_path, fourcc, fps, cv::Size(seq.width, seq.height), true)) {
+      std::fprintf(stderr, "ellipsekit track: %s: cannot open a video writer (codec %s)\n", video_path.c_str(),
+                   ext == ".mp4" ? "mp4v" : "MJPG");
+      return kExitFailure;
+    }
+  }
+#else
+  if (!video_path.empty()) {
+    std::fprintf(stderr, "ellipsekit track: --video: this build has no OpenCV videoio\n");
+    return kExitFailure;
+  }
+#endif
+  TrackDrawer drawer;
+  const bool drawing = !draw_dir.empty() || !video_path.empty();
 
   const fs::path out_path(out);
   std::string tmp_name(".");
@@ -457,8 +494,8 @@ int RunTrack(const std::vector<std::string>& argv) {
     return kExitFailure;
   };
 
-  std::map<std::int64_t, Track3D> t3;
-  DetectionResult result;
+  robot::FrameOutput frame;
+  cv::Mat drawn;
   bool write_ok = true;
   for (int i = 0; i < seq.frames; ++i) {
     const double now = seq.times[static_cast<std::size_t>(i)];
@@ -481,11 +518,6 @@ int RunTrack(const std::vector<std::string>& argv) {
     view.width = gray.cols;
     view.height = gray.rows;
     view.stride = static_cast<std::ptrdiff_t>(gray.step[0]);
-    if (Status st = detector.detect(view, &result); !st.ok()) return fail(img_path.string() + ": " + st.message());
-    const std::vector<Ellipse>& dets = result.ellipses;  // one per top: the detector keeps its outer rim
-    if (Status st = tracker.Update(dets, now); !st.ok()) return fail(img_path.string() + ": " + st.message());
-
-    // 3-D top centres of this frame's detections.
     robot::DepthImageView dv;
     if (seq.has_depth) {
       dv.data = depth.data;
@@ -494,98 +526,45 @@ int RunTrack(const std::vector<std::string>& argv) {
       dv.step = depth.step[0];
       dv.encoding = robot::DepthEncoding::k16UC1;
     }
-    std::map<std::int64_t, Eigen::Vector2d> centre_pixel;  // projected top centre (for the conveyor)
-    for (const robot::Track& tr : tracker.tracks()) {
-      Track3D& s = t3[tr.id];
-      if (s.kf) s.kf->Predict(now - s.last_t);
-      s.last_t = now;
-      if (tr.detection_index < 0) continue;
-      const Ellipse& e = dets[static_cast<std::size_t>(tr.detection_index)];
-      std::optional<Eigen::Vector3d> pc;
-      if (seq.has_depth) {
-        robot::DepthSampleOptions dso;
-        dso.plane_normal = up_cam;
-        auto ds = robot::SampleTopCentre(e, dv, seq.camera, dso);
-        if (ds.ok()) pc = ds.value.centre;
-      }
-      if (!pc && radius > 0) {
-        auto cp = robot::CirclePoseByNormal(e, radius, seq.camera, up_cam);
-        if (cp.ok()) pc = cp.value.centre;
-      }
-      if (!pc) continue;
-      const Eigen::Vector3d pw = R_wc * *pc + t_wc;
-      s.position = pw;
-      s.has_position = true;
-      if (!s.kf) {
-        s.kf = std::make_unique<robot::ConstantVelocityKalman>(pw, 1e-6, 0.04, 0.05, 4e-6);
-      } else {
-        s.kf->Update(pw);
-      }
-      auto px = seq.camera.Project(*pc);
-      if (px.ok()) centre_pixel[tr.id] = px.value;
-    }
-    for (auto it = t3.begin(); it != t3.end();) {  // forget deleted tracks
-      it = tracker.Find(it->first) == nullptr ? t3.erase(it) : std::next(it);
-    }
-
-    // The conveyor: one track, the first confirmed one near the guide; observations of its centre.
-    if (belt) {
-      if (belt_id >= 0 && tracker.Find(belt_id) == nullptr) {
-        belt_id = -1;
-        belt->Reset();
-      }
-      if (belt_id < 0) {
-        const Eigen::Vector2d a = seq.ref[0].pixel, b = seq.ref[1].pixel;
-        double best = 1e300;
-        for (const robot::Track& tr : tracker.tracks()) {
-          if (tr.state != robot::TrackState::kConfirmed || !centre_pixel.count(tr.id)) continue;
-          const Eigen::Vector2d p = centre_pixel[tr.id];
-          const double u = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), -0.2, 1.2);
-          const double d = (p - (a + u * (b - a))).norm();
-          if (d < std::max(20.0, 2 * tr.ellipse.b) && d < best) {
-            best = d;
-            belt_id = tr.id;
-          }
-        }
-      }
-      if (belt_id >= 0 && centre_pixel.count(belt_id)) {
-        if (Status st = belt->AddObservation(centre_pixel[belt_id], now); !st.ok())
-          return fail(img_path.string() + ": " + st.message());
-      }
-    }
+    if (Status st = loop.ProcessFrame(view, seq.has_depth ? &dv : nullptr, now, &frame); !st.ok())
+      return fail(img_path.string() + ": " + st.message());
 
     // One output line.
     std::string line = "{\"t\": " + JsonNumber(now, 6) + ", \"tracks\": [";
     bool first = true;
-    for (const robot::Track& tr : tracker.tracks()) {
-      const Track3D& s = t3[tr.id];
-      if (!s.has_position) continue;
-      Eigen::Vector3d pos = tr.detection_index >= 0 ? s.position : Eigen::Vector3d(s.kf->position());
-      Eigen::Vector3d vel = s.kf ? Eigen::Vector3d(s.kf->velocity()) : Eigen::Vector3d::Zero();
-      if (belt && tr.id == belt_id) {
-        auto st = belt->State();
-        if (st.ok()) vel = st.value.speed_m_s * belt->direction();
-      }
+    for (const robot::TrackOutput& t : frame.tracks) {
+      if (!t.has_position) continue;
       if (!first) line += ", ";
       first = false;
-      line += "{\"id\": " + std::to_string(tr.id) + ", \"state\": \"" + robot::TrackStateName(tr.state) +
-              "\", \"pixel\": [" + JsonNumber(tr.ellipse.cx, 2) + ", " + JsonNumber(tr.ellipse.cy, 2) +
-              "], \"position\": " + Vec(pos) + ", \"velocity\": " + Vec(vel) + "}";
+      line += "{\"id\": " + std::to_string(t.id) + ", \"state\": \"" + robot::TrackStateName(t.state) +
+              "\", \"pixel\": [" + JsonNumber(t.ellipse.cx, 2) + ", " + JsonNumber(t.ellipse.cy, 2) +
+              "], \"position\": " + Vec(t.position) + ", \"velocity\": " + Vec(t.velocity) + "}";
     }
     line += "], \"grasp\": ";
     bool grasp = false;
-    if (belt && belt_id >= 0) {
-      auto plan = robot::PlanConveyorGrasp(*belt, now, gopt);
-      auto s_then = belt->PredictPosition(now + latency);
-      if (plan.ok() && s_then.ok() && plan.value.decision == robot::GraspDecision::kGrasp) {
-        const Eigen::Vector3d target = belt->PositionToPoint(s_then.value);
-        const auto& g = plan.value.grasp.pose.position;
-        const auto& p = plan.value.pregrasp.pose.position;
-        line += "{\"t\": " + JsonNumber(now + latency, 6) + ", \"target\": " + Vec(target) +
-                ", \"position\": " + Vec(Eigen::Vector3d(g.x, g.y, g.z)) +
-                ", \"pregrasp\": " + Vec(Eigen::Vector3d(p.x, p.y, p.z)) + "}";
-        grasp = true;
+    if (frame.grasp.valid) {
+      const auto& g = frame.grasp.plan.grasp.pose.position;
+      const auto& p = frame.grasp.plan.pregrasp.pose.position;
+      line += "{\"t\": " + JsonNumber(frame.grasp.target_time_s, 6) + ", \"target\": " + Vec(frame.grasp.target) +
+              ", \"position\": " + Vec(Eigen::Vector3d(g.x, g.y, g.z)) +
+              ", \"pregrasp\": " + Vec(Eigen::Vector3d(p.x, p.y, p.z)) + "}";
+      grasp = true;
+    }
+    if (drawing) {
+      drawer.Draw(gray, loop, frame, &drawn);
+      if (!draw_dir.empty()) {
+        const fs::path dp = fs::path(draw_dir) / FrameName(i);
+        bool ok = false;
+        try {
+          ok = cv::imwrite(dp.string(), drawn);
+        } catch (const cv::Exception&) {
+          ok = false;
+        }
+        if (!ok) return fail(dp.string() + ": cannot write image");
       }
+#ifdef ELLIPSEKIT_HAVE_VIDEOIO
+      if (video.isOpened()) video.write(drawn);
+#endif
     }
     if (!grasp) line += "null";
     line += "}\n";
