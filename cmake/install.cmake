@@ -31,9 +31,10 @@ install(TARGETS ellipsekit
   RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
   INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
 
-# The robot adapter (include/ellipsekit/robot/, library ellipsekit_robot) is a separate module and is
-# not part of the installed package yet; to ship it, install its target into ellipsekitTargets too and
-# drop the EXCLUDE below.
+# The robot adapter (include/ellipsekit/robot/, library ellipsekit_robot, target ellipsekit::robot) is
+# defined after this file is included (robot/CMakeLists.txt); it is installed by the deferred
+# _ellipsekit_write_package_files() below, with its headers, into the same export set, and gets its
+# own pkg-config file ellipsekit-robot.pc (Requires: ellipsekit eigen3).
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/ellipsekit"
   DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
   FILES_MATCHING PATTERN "*.h"
@@ -98,6 +99,21 @@ endmacro()
 # Runs after the whole project is configured: writes ellipsekitConfig.cmake and ellipsekit.pc
 # with the dependencies the library has at that point.
 function(_ellipsekit_write_package_files)
+  set(_robot_find_deps "")
+  if(TARGET ellipsekit_robot)
+    # Exported as ellipsekit::robot (the build tree's alias has the same name).
+    set_target_properties(ellipsekit_robot PROPERTIES EXPORT_NAME robot)
+    install(TARGETS ellipsekit_robot
+      EXPORT ellipsekitTargets
+      ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+      LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+      RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
+      INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
+    install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/ellipsekit/robot"
+      DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/ellipsekit"
+      FILES_MATCHING PATTERN "*.h")
+    list(APPEND _robot_find_deps "find_dependency(Eigen3 3.3 NO_MODULE)")  # robot headers use Eigen
+  endif()
   get_target_property(_type ellipsekit TYPE)
   get_target_property(_interface ellipsekit INTERFACE_LINK_LIBRARIES)
   get_target_property(_all ellipsekit LINK_LIBRARIES)
@@ -119,6 +135,7 @@ function(_ellipsekit_write_package_files)
     endif()
     _ellipsekit_map_dependency("${_item}")
   endforeach()
+  list(APPEND _find_deps ${_robot_find_deps})
   list(REMOVE_DUPLICATES _find_deps)
   list(REMOVE_DUPLICATES _pc_modules)
   list(REMOVE_DUPLICATES _pc_libs)
@@ -159,6 +176,22 @@ function(_ellipsekit_write_package_files)
   endif()
   configure_file("${CMAKE_CURRENT_FUNCTION_LIST_DIR}/ellipsekit.pc.in"
                  "${PROJECT_BINARY_DIR}/ellipsekit.pc" @ONLY)
+  if(TARGET ellipsekit_robot)
+    file(CONFIGURE OUTPUT "${PROJECT_BINARY_DIR}/ellipsekit-robot.pc" @ONLY CONTENT [=[
+prefix=@ELLIPSEKIT_PC_PREFIX@
+exec_prefix=${prefix}
+libdir=@ELLIPSEKIT_PC_LIBDIR@
+includedir=@ELLIPSEKIT_PC_INCLUDEDIR@
+
+Name: ellipsekit-robot
+Description: ellipsekit's robot adapter: camera model, rim centres from depth, circle pose, tracking, conveyor and grasp planning, the per-frame loop. Compile with -std=c++20.
+Version: @PROJECT_VERSION@
+Requires: ellipsekit = @PROJECT_VERSION@, eigen3
+Cflags: -I${includedir}
+Libs: -L${libdir} -lellipsekit_robot
+]=])
+    install(FILES "${PROJECT_BINARY_DIR}/ellipsekit-robot.pc" DESTINATION "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
+  endif()
 endfunction()
 
 cmake_language(DEFER CALL _ellipsekit_write_package_files)

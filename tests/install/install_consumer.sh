@@ -3,6 +3,8 @@
 #   1. cmake --install <build dir> --prefix <work dir>/prefix
 #   2. configure, build and run consumer/ with find_package(ellipsekit) and CMAKE_PREFIX_PATH=<prefix>
 #   3. compile the same main.cc with `pkg-config --cflags --libs ellipsekit` and run it
+#   (each twice: the detector consumer main.cc, and robot_main.cc against ellipsekit::robot /
+#   pkg-config ellipsekit-robot)
 # The work dir is recreated on each run and left in place for inspection.
 set -euo pipefail
 
@@ -75,6 +77,8 @@ found_dir=$(sed -n 's/^ellipsekit_DIR:[A-Z]*=//p' "$consumer_build/CMakeCache.tx
 [[ "$found_dir" == "$prefix"/* ]] || fail "find_package found ellipsekit in '$found_dir', not under $prefix"
 run_logged "$work_dir/cmake-build.log" "$cmake_cmd" --build "$consumer_build"
 "$consumer_build/ellipsekit_consumer" || fail "find_package consumer exited with $?"
+[[ -f "$prefix/include/ellipsekit/robot/frame_loop.h" ]] || fail "robot headers not installed"
+"$consumer_build/ellipsekit_robot_consumer" || fail "find_package robot consumer (ellipsekit::robot) exited with $?"
 
 echo "== pkg-config consumer"
 command -v pkg-config >/dev/null || fail "pkg-config not found"
@@ -89,5 +93,12 @@ run_logged "$work_dir/pkgconfig-build.log" \
   "$cxx" -std=c++20 "${extra_cxx[@]}" "$consumer_dir/main.cc" -o "$work_dir/pkgconfig-consumer" \
   "${pc_args[@]}" "${extra_ld[@]}"
 "$work_dir/pkgconfig-consumer" || fail "pkg-config consumer exited with $?"
+robot_flags=$(pkg-config --cflags --libs ellipsekit-robot) || fail "pkg-config --cflags --libs ellipsekit-robot failed"
+echo "   pkg-config --cflags --libs ellipsekit-robot: $robot_flags"
+read -ra robot_args <<<"$robot_flags"
+run_logged "$work_dir/pkgconfig-robot-build.log" \
+  "$cxx" -std=c++20 "${extra_cxx[@]}" "$consumer_dir/robot_main.cc" -o "$work_dir/pkgconfig-robot-consumer" \
+  "${robot_args[@]}" "${extra_ld[@]}"
+"$work_dir/pkgconfig-robot-consumer" || fail "pkg-config robot consumer exited with $?"
 
 echo "install_consumer: PASS"
