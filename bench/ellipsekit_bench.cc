@@ -15,12 +15,16 @@
 //   detect/<backend>/<prasad|photos|scenes>/<image>   Detector::detect on the image at its own
 //                                         size; photos: the other shared datasets' images,
 //                                         named <dataset>_<stem>
-//   opencv_canny_image/<prasad|photos|scenes>/<image> cv::Canny on the same image
-//   detect/<backend>/scenes200, opencv_canny_image/scenes200
+//   opencv_blur_canny_image/<prasad|photos|scenes>/<image>   3x3 blur + cv::Canny on the same
+//                                         image (BlurCanny, bench_frames.h: detect()'s edge stage
+//                                         like for like)
+//   detect/<backend>/scenes200, opencv_blur_canny_image/scenes200
 //                                         one iteration = all 200 scenes of `ellipsekit scenes
 //                                         --count 200 --seed 7` (rendered on first use)
 //   detect/crowded/<n>                    four crowded 1280x720 frames of n objects
 //                                         (bench/crowded_bench.h); counter ms_per_ellipse
+//   memory/<backend>/<W>x<H>              heap a Detector holds after one frame, per pixel
+//                                         (bench/memory_bench.h); counter bytes_per_px
 // Test frames for kernels / edge stage: the first prasad image, resized (cv::resize) to each size,
 // so the edge density is realistic. OpenCV runs single-threaded (cv::setNumThreads(1)).
 #include <benchmark/benchmark.h>
@@ -44,6 +48,7 @@
 #include "bench/bench_frames.h"
 #include "bench/crowded_bench.h"
 #include "bench/end_to_end_bench.h"
+#include "bench/memory_bench.h"
 #include "ellipsekit/detector.h"
 #include "kernels/canny_thresholds.h"
 #include "kernels/edge_sign.h"
@@ -497,8 +502,7 @@ void BM_OpenCvCanny(benchmark::State& st, bool blur, Size s) {
   cv::Mat blurred, edges;
   for (auto _ : st) {
     if (blur) {
-      cv::GaussianBlur(p.frame, blurred, cv::Size(3, 3), 0, 0, cv::BORDER_REPLICATE);
-      cv::Canny(blurred, edges, p.th.low, p.th.high, 3, false);
+      BlurCanny(p.frame, p.th, &blurred, &edges);
     } else {
       cv::Canny(p.frame, edges, p.th.low, p.th.high, 3, false);
     }
@@ -617,6 +621,7 @@ int main(int argc, char** argv) {
   Register();
   ellipsekit::bench::RegisterEndToEndBenchmarks();
   ellipsekit::bench::RegisterCrowdedBenchmarks();
+  ellipsekit::bench::RegisterMemoryBenchmarks();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -43,6 +43,14 @@ bool PassesObbRule(const Curves& curves, int begin, int end, const Options& opti
 void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull,
                        Curves* scratch) {
   scratch->clear();
+  // The two swap roles every frame: each must hold what the other does, or a frame that grew
+  // `curves` would make the next one (same size, same content) grow `scratch` in its place.
+  scratch->x.reserve(curves->x.capacity());
+  scratch->y.reserve(curves->y.capacity());
+  scratch->gx.reserve(curves->gx.capacity());
+  scratch->gy.reserve(curves->gy.capacity());
+  scratch->sign_class.reserve(curves->sign_class.capacity());
+  scratch->offset.reserve(curves->offset.capacity());
   for (int c = 0; c < curves->size(); ++c) {
     const int b = curves->offset[c], e = curves->offset[c + 1];
     if (!PassesObbRule(*curves, b, e, options, hull)) continue;

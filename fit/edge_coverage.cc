@@ -98,7 +98,7 @@ bool GradientAlong(const EdgeMapView& in, int x, int y, double nx, double ny) {
 void EdgeClaims::Resize(int width, int height) {
   mask.assign(static_cast<std::size_t>(width) * height, 0);
   claimed.clear();
-  claimed.reserve(mask.size());
+  claimed.reserve(mask.size() / 16);  // grows (and keeps) when more is claimed
 }
 
 void EdgeClaims::Clear() {

@@ -48,7 +48,12 @@ const char* CapName(CapFlags cap);
 struct DetectionResult {
   std::vector<Ellipse> ellipses;  // best score first
   StageTimings timings;
-  Backend backend = Backend::kScalar;  // the backend that ran
+  Backend backend = Backend::kScalar;  // the backend that ran (the edge stage's)
+  // The backend that ran the arc stage (polyline, arc split, arc statistics). Differs from
+  // `backend` only for kVulkan, whose arc stage runs on the CPU kernels (kSimd, or kScalar without
+  // SIMD) on a device without shaderInt64 (Detector::backend_note() says so) or for a frame whose
+  // curves exceed the device's storage-buffer range. Same results either way (integer-exact).
+  Backend arc_backend = Backend::kScalar;
   const char* simd_target = "";        // the Highway target that ran ("AVX2", ...) when backend is kSimd
   unsigned caps_hit = kCapNone;        // CapFlags
   int num_edge_pixels = 0;
@@ -73,7 +78,8 @@ class Detector {
   Status status() const;
   const Options& options() const;
   // Why the backend or SIMD target that runs differs from the one asked for (kAuto without SIMD
-  // kernels, an ELLIPSEKIT_HWY_TARGET that names no available target); empty when it does not.
+  // kernels, an ELLIPSEKIT_HWY_TARGET that names no available target, kVulkan's arc stage on the
+  // CPU); empty when it does not.
   const std::string& backend_note() const;
 
   Status detect(const ImageView& image, DetectionResult* result);

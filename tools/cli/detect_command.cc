@@ -34,7 +34,8 @@ const char kDetectUsage[] =
     "txt output, per image:\n"
     "  # <image path> <number of ellipses> <median detect() ms>\n"
     "  cx cy a b theta            (one line per ellipse, best score first)\n"
-    "json output: one array of {path, median_ms, backend, ellipses: [{cx, cy, a, b, theta, score}],\n"
+    "json output: one array of {path, median_ms, backend, [simd_target,] [arc_backend (when the arc\n"
+    "  stage ran elsewhere: Vulkan's on the CPU),] ellipses: [{cx, cy, a, b, theta, score}],\n"
     "  timings: {edges_ms, curves_ms, arcs_ms, fit_ms, validate_ms, total_ms} (per-stage medians),\n"
     "  counts: {edge_pixels, curves, arcs, pairs, triplets, candidates, caps_hit}} (the last run;\n"
     "  caps_hit names the caps that bounded the work (CapName in ellipsekit/detector.h), [] when none).\n"
@@ -80,6 +81,8 @@ std::string ReportJson(const ImageReport& r) {
   std::string s = "  {\"path\": " + JsonString(r.path) + ", \"median_ms\": " + JsonNumber(r.median_ms, 4) +
                   ", \"backend\": " + JsonString(BackendName(r.result.backend)) +
                   (r.result.simd_target[0] != '\0' ? ", \"simd_target\": " + JsonString(r.result.simd_target) : "") +
+                  (r.result.arc_backend != r.result.backend
+                       ? ", \"arc_backend\": " + JsonString(BackendName(r.result.arc_backend)) : "") +
                   ",\n   \"ellipses\": [";
   for (std::size_t i = 0; i < r.result.ellipses.size(); ++i) {
     const Ellipse& e = r.result.ellipses[i];
