@@ -4,6 +4,7 @@
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "ellipsekit/options.h"
 #include "kernels/edge_sign.h"
@@ -59,6 +60,11 @@ void PrepareFrom(const cv::Mat& frame, Prepared* p) {
   p->hyst = p->nms;
   ek::scalar::Hysteresis(p->hyst.data(), w, h, w, p->stack.data());
   ek::scalar::EdgeSign(p->hyst.data(), w, p->dx.data(), p->dy.data(), w, w, h, p->edges.data(), w);
+}
+
+void BlurCanny(const cv::Mat& frame, const CannyThresholds& th, cv::Mat* blurred, cv::Mat* edges) {
+  cv::GaussianBlur(frame, *blurred, cv::Size(3, 3), 0, 0, cv::BORDER_REPLICATE);
+  cv::Canny(*blurred, *edges, th.low, th.high, 3, false);
 }
 
 void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_iter) {

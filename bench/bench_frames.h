@@ -40,6 +40,11 @@ struct Prepared {
 // Fills *p from `frame` with the scalar reference kernels and the default options.
 void PrepareFrom(const cv::Mat& frame, Prepared* p);
 
+// The like-for-like baseline of detect()'s edge stage: the same 3x3 binomial blur (cv::GaussianBlur,
+// 3x3, sigma 0: weights 1 2 1 / 4, replicated border) then cv::Canny with the L1 gradient and the
+// thresholds `th` (those the edge stage picks on the frame). *blurred and *edges are scratch.
+void BlurCanny(const cv::Mat& frame, const CannyThresholds& th, cv::Mat* blurred, cv::Mat* edges);
+
 // items/s = pixels per iteration, bytes/s = bytes_per_iter per iteration.
 void SetRates(benchmark::State& st, std::int64_t pixels, std::int64_t bytes_per_iter);
 

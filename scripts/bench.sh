@@ -115,25 +115,25 @@ for s in sizes + ["64x48"]:
     lines.append(f"| {s} | " + " | ".join(cells) + f" | {fmt(v.get('device_ms'))} | {fmt(v['ms'])} | {fmt(ms(f'edge_stage/vulkan_cold/{s}'))} | {fmt(ms(f'edge_stage/simd/{s}'))} |")
 lines.append("")
 
-lines += ["## End to end: detect() / cv::Canny on the same image (median of per-image ratios)", "",
-          "| set | images | detect(scalar) / Canny | detect(SIMD) / Canny | detect(Vulkan) / Canny | median detect(SIMD) ms | median cv::Canny ms |",
+lines += ["## End to end: detect() / (3x3 blur + cv::Canny) on the same image (median of per-image ratios)", "",
+          "| set | images | detect(scalar) / blur+Canny | detect(SIMD) / blur+Canny | detect(Vulkan) / blur+Canny | median detect(SIMD) ms | median blur+Canny ms |",
           "|---|---|---|---|---|---|---|"]
 for st in ["prasad", "photos", "scenes"]:
-    images = sorted({n.split("/", 2)[2] for n in runs if n.startswith(f"opencv_canny_image/{st}/")})
+    images = sorted({n.split("/", 2)[2] for n in runs if n.startswith(f"opencv_blur_canny_image/{st}/")})
     cols = []
     for be in ["scalar", "simd", "vulkan"]:
-        rs = [ratio(ms(f"detect/{be}/{st}/{i}"), ms(f"opencv_canny_image/{st}/{i}")) for i in images]
+        rs = [ratio(ms(f"detect/{be}/{st}/{i}"), ms(f"opencv_blur_canny_image/{st}/{i}")) for i in images]
         rs = [r for r in rs if r is not None]
         cols.append(fmt(statistics.median(rs)) if rs else "n/a")
     dsimd = [ms(f"detect/simd/{st}/{i}") for i in images if ms(f"detect/simd/{st}/{i}") is not None]
-    canny = [ms(f"opencv_canny_image/{st}/{i}") for i in images]
+    canny = [ms(f"opencv_blur_canny_image/{st}/{i}") for i in images]
     lines.append(f"| {st} | {len(images)} | " + " | ".join(cols) +
                  f" | {fmt(statistics.median(dsimd)) if dsimd else 'n/a'} | {fmt(statistics.median(canny)) if canny else 'n/a'} |")
 lines.append("")
 # The issue's set: all 200 scenes of `ellipsekit scenes --count 200 --seed 7`, one iteration each.
-c200 = ms("opencv_canny_image/scenes200")
+c200 = ms("opencv_blur_canny_image/scenes200")
 lines += ["## End to end over the 200 generated scenes (sum of times per iteration)", "",
-          "| backend | detect / cv::Canny | detect ms per scene | cv::Canny ms per scene |", "|---|---|---|---|"]
+          "| backend | detect / (blur + cv::Canny) | detect ms per scene | blur + cv::Canny ms per scene |", "|---|---|---|---|"]
 for be in ["scalar", "simd", "vulkan"]:
     d = ms(f"detect/{be}/scenes200")
     per = lambda x: None if x is None else x / 200
