@@ -11,6 +11,7 @@
 //   one_pixel.png       1x1 (too small: refused)
 //   wide_65536.png      65536x1 (larger than the detector's 16384 px side limit)
 //   a_directory.png/    a directory
+//   ggg...g.png         good.png under a 248-character stem (see below)
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -77,6 +78,10 @@ int main(int argc, char** argv) {
   for (int y = 0; y < textured.rows; ++y)
     for (int x = 0; x < textured.cols; ++x) textured.at<unsigned char>(y, x) += static_cast<unsigned char>((x * 7 + y * 13) % 23);
   Write(dir / "good.png", Encode(".png", good));
+  // good.png again under a 248-character stem: --draw's output name (stem + ".png", 252 characters)
+  // is legal, its temporary ("." + stem + ".tmp<pid>.png", at least 258) is over the 255-byte name
+  // limit, so writing the temporary fails (cli_error_draw_write_fails).
+  Write(dir / (std::string(248, 'g') + ".png"), Encode(".png", good));
   Write(dir / "empty.png", {});
   const std::string text = "this is not an image\n";
   Write(dir / "text.png", std::vector<unsigned char>(text.begin(), text.end()));

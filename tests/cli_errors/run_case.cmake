@@ -2,7 +2,9 @@
 #   - the exit status is EXPECT_RC,
 #   - stdout matches STDOUT_REGEX (empty: not checked),
 #   - stderr matches STDERR_REGEX in full (empty: stderr must be empty),
-#   - nothing under NO_LEFTOVER_DIR matches NO_LEFTOVER_GLOB ('|'-separated globs) afterwards.
+#   - nothing under NO_LEFTOVER_DIR matches NO_LEFTOVER_GLOB ('|'-separated globs) afterwards;
+#   - NO_LEFTOVER_DIR holds exactly the files of KEEP_FILES ('|'-separated, relative) afterwards when
+#     KEEP_FILES is given, which are made (empty, with their folders) before the run: an obstacle.
 # When SKIP_IF_ROOT is set and we run as root, exits with "SKIP" (the test's SKIP_REGULAR_EXPRESSION).
 if(SKIP_IF_ROOT)
   execute_process(COMMAND id -u OUTPUT_VARIABLE uid OUTPUT_STRIP_TRAILING_WHITESPACE)
@@ -15,6 +17,10 @@ string(REPLACE "|" ";" ARGS "${ARGS}")
 if(NO_LEFTOVER_DIR)
   file(REMOVE_RECURSE ${NO_LEFTOVER_DIR})
 endif()
+string(REPLACE "|" ";" KEEP_FILES "${KEEP_FILES}")
+foreach(f IN LISTS KEEP_FILES)
+  file(WRITE ${NO_LEFTOVER_DIR}/${f} "")
+endforeach()
 execute_process(COMMAND ${PROGRAM} ${ARGS} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
                 TIMEOUT 60)
 set(problems "")
@@ -39,6 +45,14 @@ if(NO_LEFTOVER_DIR)
       string(APPEND problems "left behind in ${NO_LEFTOVER_DIR}: ${left}\n")
     endif()
   endforeach()
+endif()
+if(KEEP_FILES)
+  file(GLOB_RECURSE present LIST_DIRECTORIES false RELATIVE ${NO_LEFTOVER_DIR} "${NO_LEFTOVER_DIR}/*")
+  list(SORT present)
+  list(SORT KEEP_FILES)
+  if(NOT present STREQUAL KEEP_FILES)
+    string(APPEND problems "${NO_LEFTOVER_DIR} holds '${present}', expected exactly '${KEEP_FILES}'\n")
+  endif()
 endif()
 if(problems)
   message(FATAL_ERROR "${PROGRAM} ${ARGS}\n${problems}--- stdout:\n${out}--- stderr:\n${err}")
