@@ -219,16 +219,42 @@ TEST(ConformanceVulkanEdge, DatasetImages) {
   EXPECT_GT(count, 0) << "no readable image under " << root;
 }
 
-// Which hysteresis shader ran: relaxed atomics under the Vulkan memory model where the device has
-// it, atomicOr otherwise; ELLIPSEKIT_VK_NO_MEMORY_MODEL=1 forces the fallback (ctest runs this
-// file's conformance tests both ways: ConformanceVulkanEdgeFallback).
+// Which hysteresis shader runs: relaxed atomics under the Vulkan memory model where the device has
+// it, atomicOr otherwise; ELLIPSEKIT_VK_NO_MEMORY_MODEL=1 forces the fallback (ctest also runs this
+// file's conformance tests that way: ConformanceVulkanEdgeFallback). Asserted in every run: the
+// shared stage's variant follows the device (Vulkan 1.3 makes vulkanMemoryModel and
+// vulkanMemoryModelDeviceScope mandatory, so a 1.3 device such as lavapipe must get the relaxed
+// shader unless forced off), and a second stage created with the variable set gets the fallback and
+// gives the scalar edge map bit for bit on frames whose hysteresis crosses many strips.
 TEST(ConformanceVulkanEdge, HysteresisVariant) {
   REQUIRE_VULKAN(stage);
   const char* off = std::getenv("ELLIPSEKIT_VK_NO_MEMORY_MODEL");
   const bool forced_off = off != nullptr && std::string(off) == "1";
-  std::printf("[vulkan] %s: hysteresis with %s\n", stage->device_name().c_str(),
+  const std::uint32_t api = stage->context()->properties().apiVersion;
+  std::printf("[vulkan] %s (Vulkan %u.%u): hysteresis with %s\n", stage->device_name().c_str(), VK_API_VERSION_MAJOR(api),
+              VK_API_VERSION_MINOR(api),
               stage->context()->memory_model() ? "relaxed atomics (Vulkan memory model)" : "atomicOr");
-  if (forced_off) EXPECT_FALSE(stage->context()->memory_model());
+  if (forced_off) {
+    EXPECT_FALSE(stage->context()->memory_model());
+  } else if (api >= VK_API_VERSION_1_3) {
+    EXPECT_TRUE(stage->context()->memory_model()) << "a Vulkan 1.3 device has the memory model";
+  }
+  // The other variant in this process: a fresh context reads the variable when it is created.
+  const std::string saved = off != nullptr ? off : "";
+  ::setenv("ELLIPSEKIT_VK_NO_MEMORY_MODEL", "1", 1);
+  std::unique_ptr<VulkanEdgeStage> fallback;
+  const Status st = VulkanEdgeStage::Create(&fallback);
+  if (off != nullptr) ::setenv("ELLIPSEKIT_VK_NO_MEMORY_MODEL", saved.c_str(), 1);
+  else ::unsetenv("ELLIPSEKIT_VK_NO_MEMORY_MODEL");
+  ASSERT_TRUE(st.ok()) << st.message();
+  EXPECT_FALSE(fallback->context()->memory_model());
+  for (const auto& size : {std::pair{640, 480}, std::pair{97, 301}}) {
+    const auto img = Shapes(size.first, size.second, 17);
+    const ImageView view{img.data(), size.first, size.second, size.first};
+    ExpectSameBothBlurs(fallback.get(), view, "atomicOr variant " + std::to_string(size.first) + "x" +
+                                                 std::to_string(size.second));
+    ExpectSameBothBlurs(stage, view, "shared variant " + std::to_string(size.first) + "x" + std::to_string(size.second));
+  }
 }
 
 TEST(ConformanceVulkanEdge, Timing) {
