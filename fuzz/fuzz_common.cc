@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 namespace ellipsekit::fuzz {
@@ -120,6 +121,18 @@ void CheckResult(const DetectionResult& r, int w, int h, const Options& o) {
   }
   const StageTimings& t = r.timings;
   if (!(t.total_ms >= 0) || !(t.edges_ms >= 0)) Fail("negative timing", none);
+}
+
+void CheckSameAsReference(const DetectionResult& reference, const DetectionResult& got) {
+  const Status none;
+  if (got.num_edge_pixels != reference.num_edge_pixels) Fail("edge pixel count differs from scalar", none);
+  if (got.num_curves != reference.num_curves) Fail("curve count differs from scalar", none);
+  if (got.num_arcs != reference.num_arcs) Fail("arc count differs from scalar", none);
+  if (got.ellipses.size() != reference.ellipses.size()) Fail("ellipse count differs from scalar", none);
+  for (std::size_t i = 0; i < got.ellipses.size(); ++i) {
+    if (std::memcmp(&got.ellipses[i], &reference.ellipses[i], sizeof(Ellipse)) != 0)
+      Fail("ellipse differs from scalar", none);
+  }
 }
 
 }  // namespace ellipsekit::fuzz

@@ -53,4 +53,8 @@ ImageView FuzzView(const std::uint8_t* pixels, const std::uint8_t* never_read, b
 // [-pi/2, pi/2), timings not negative.
 void CheckResult(const DetectionResult& r, int w, int h, const Options& o);
 
+// Aborts unless `got` (another backend's ok result for the same frame and options) has the same
+// ellipses as the scalar `reference`, bit for bit, and the same edge pixel, curve and arc counts.
+void CheckSameAsReference(const DetectionResult& reference, const DetectionResult& got);
+
 }  // namespace ellipsekit::fuzz
