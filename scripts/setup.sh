@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libopencv-contrib-dev libeigen3-dev libhwy-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
   libgtest-dev libbenchmark-dev python3
+  python3-dev pybind11-dev python3-numpy python3-distributed python3-pytest python3-tqdm  # python/
   clang libclang-rt-14-dev  # scripts/fuzz.sh (libFuzzer)
 )
 
