@@ -25,21 +25,10 @@ from ellipsekit._detections import Detections
 __all__ = ["Detector", "Detections", "read_gray", "OPTION_NAMES"]
 __version__ = "0.1.0"
 
-# The option names, for help() and completion. The parsing and the checks are the C++ library's
-# (ellipsekit::SetOption, ValidateOptions); tests/test_api.py checks this list against options.h.
-OPTION_NAMES = (
-    "backend", "simd_target",
-    "gaussian_blur", "canny_high_permille", "canny_low_permille", "canny_min_high",
-    "min_curve_points", "obb_rule", "obb_threshold", "polyline_tolerance", "split_angle_deg",
-    "center_method", "pair_reach", "retire_found_arcs", "center_distance", "mean_shift_bandwidth",
-    "distance_ratio", "length_ratio", "inlier_rule", "inlier_threshold", "circumference_ratio",
-    "cluster_rule", "cluster_distance", "cluster_relative", "cluster_outer_margin",
-    "rim_min_coverage", "min_edge_coverage", "min_exclusive_coverage", "cluster_pick_best_fit",
-    "refit_to_edges", "refine_fit", "refined_circumference_ratio", "pair_candidates",
-    "pair_min_edge_coverage", "min_axis_ratio",
-    "max_arcs", "max_pairs", "max_triplets", "max_candidates", "max_mean_shift_iterations",
-    "max_image_pixels",
-)
+# The option names (the fields of struct Options, in its order), for help() and completion; generated
+# from include/ellipsekit/options.h by the build. Parsing and checking are the C++ library's
+# (ellipsekit::SetOption, ValidateOptions), so a name missing here still works.
+from ellipsekit._option_names import OPTION_NAMES
 
 
 def _option_text(name, value):

@@ -69,6 +69,7 @@ class Detector:
         max_candidates: int = ...,
         max_mean_shift_iterations: int = ...,
         max_image_pixels: int = ...,
+        **options: _OptionValue,  # any other field of Options (ellipsekit.OPTION_NAMES)
     ) -> None: ...
     def detect(self, image: npt.NDArray[np.uint8]) -> Detections:
         """(H, W) gray or (H, W, 3) BGR uint8, any row stride; releases the GIL."""

@@ -78,3 +78,10 @@ def run_chunk(paths, assignments, gt=None):
         lines.append(json.dumps(rec, separators=(", ", ": ")) + "\n")
     return "".join(lines)
 
+
+
+def describe():
+    """What a worker runs, checked by the client before any work is sent (a worker machine without
+    the package, or with another version of it, would fail every chunk)."""
+    import ellipsekit
+    return ellipsekit.__version__

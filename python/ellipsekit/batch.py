@@ -37,7 +37,7 @@ import time
 
 from ellipsekit import _ellipsekit
 from ellipsekit import _option_text
-from ellipsekit._batch_worker import run_chunk
+from ellipsekit._batch_worker import describe, run_chunk
 
 _GLOB_CHARS = set("*?[")
 
@@ -205,8 +205,14 @@ def _score_file(out_path, gt):
 def _start_cluster(args):
     from distributed import Client, LocalCluster
     if args.scheduler:
-        return Client(args.scheduler), None
+        client = Client(args.scheduler, timeout=30)
+        client.wait_for_workers(1, timeout=120)
+        return client, None
     n = args.workers or os.cpu_count() or 1
+    # The workers' statistical profiler samples every thread's stack every 10 ms for the dashboard,
+    # which this command does not serve: off, its CPU goes to detection.
+    import dask
+    dask.config.set({"distributed.worker.profile.enabled": False})
     cluster = LocalCluster(n_workers=n, threads_per_worker=args.threads, processes=True,
                            dashboard_address=None, silence_logs=logging.ERROR)
     return Client(cluster), cluster
@@ -218,17 +224,26 @@ def run(args, log=None):
     from distributed import as_completed
 
     done = _read_done(args.out) if args.resume else set()
-    if not args.resume and os.path.exists(args.out):
-        os.truncate(args.out, 0)
     todo = (p for p in iter_inputs(args.inputs, warn=log) if p not in done)
     total = sum(1 for p in iter_inputs(args.inputs) if p not in done)
 
     start = time.perf_counter()
     client, cluster = _start_cluster(args)
-    fd = os.open(args.out, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+    fd = -1
     counts = {"images": 0, "ellipses": 0, "errors": 0}
     progress = None
     try:
+        from ellipsekit import __version__
+        try:
+            versions = client.run(describe)
+        except Exception as e:  # noqa: BLE001 - e.g. ModuleNotFoundError raised on a worker
+            raise SystemExit(f"ellipsekit.batch: a worker cannot run ellipsekit ({type(e).__name__}: {e}); "
+                             "install the package where the workers run (README: Running on a cluster)")
+        other = {w: v for w, v in versions.items() if v != __version__}
+        if other:
+            raise SystemExit(f"ellipsekit.batch: workers run other versions of ellipsekit than {__version__}: {other}")
+        # The output is touched only once the cluster can do the work (a failed start leaves it be).
+        fd = os.open(args.out, os.O_WRONLY | os.O_APPEND | os.O_CREAT | (0 if args.resume else os.O_TRUNC), 0o644)
         nthreads = client.nthreads()
         threads = sum(nthreads.values()) or 1
         chunk = args.chunk or max(4, min(64, math.ceil(total / (8 * threads))))
@@ -283,7 +298,8 @@ def run(args, log=None):
                 window.add(submit(nxt))
         elapsed = time.perf_counter() - submit_start
     finally:
-        os.close(fd)
+        if fd >= 0:
+            os.close(fd)
         if progress is not None:
             progress.close()
         client.close()

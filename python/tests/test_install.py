@@ -18,7 +18,7 @@ def test_install_into_a_prefix(tmp_path):
     site = sysconfig.get_path("platlib", "posix_prefix", vars={"base": str(prefix), "platbase": str(prefix)})
     pkg = os.path.join(site, "ellipsekit")
     for name in ("__init__.py", "__init__.pyi", "py.typed", "batch.py", "_batch_worker.py", "robot.py",
-                 "robot.pyi", "_detections.py"):
+                 "robot.pyi", "_detections.py", "_option_names.py"):
         assert os.path.isfile(os.path.join(pkg, name)), name
     assert any(n.startswith("_ellipsekit.") and n.endswith(".so") for n in os.listdir(pkg))
     # The installed copy imports and works without the build tree on the path.
