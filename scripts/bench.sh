@@ -4,11 +4,24 @@
 #   out/bench/ratios.md    time ratios measured in that run
 #   out/bench/stages.png   detect() time per stage on the generated scenes, per backend
 # Usage: scripts/bench.sh [extra ellipsekit_bench flags, e.g. --benchmark_filter=...]
+#        scripts/bench.sh --python [COUNT]   the Python batch runner's throughput (see below)
 # ELLIPSEKIT_BENCH_MIN_TIME (seconds per benchmark, default 0.2) trades run time for noise.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 scripts/setup.sh
+
+# scripts/bench.sh --python [COUNT]: only the batch runner's throughput (python/bench/batch_throughput.py):
+# images per second of `python3 -m ellipsekit.batch` with 1 and 2 local workers against
+# `ellipsekit detect --warmup 0` over COUNT (default 2000) generated 640x480 scenes -> out/bench/batch.md.
+# ELLIPSEKIT_BUILD_DIR picks the build tree (default build/).
+if [[ "${1:-}" == "--python" ]]; then
+  build_dir="${ELLIPSEKIT_BUILD_DIR:-build}"
+  cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build_dir" -j2 --target ellipsekit_cli ellipsekit_python
+  python=$(sed -n 's/^Python_EXECUTABLE:FILEPATH=//p' "$build_dir/CMakeCache.txt")
+  exec "${python:-python3}" python/bench/batch_throughput.py --build "$build_dir" --count "${2:-2000}" --out out/bench
+fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DELLIPSEKIT_BUILD_BENCH=ON >/dev/null
 cmake --build build -j2 --target ellipsekit_bench ellipsekit_plot
 
