@@ -18,6 +18,7 @@
 #include "fit/edge_refit.h"
 #include "fit/grouping.h"
 #include "kernels/canny_thresholds.h"
+#include "kernels/pyramid_down.h"
 #include "runtime/backend.h"
 #ifdef ELLIPSEKIT_HAVE_VULKAN
 #include "runtime/vulkan_arc_stage.h"
@@ -47,6 +48,10 @@ using Clock = std::chrono::steady_clock;
 double Ms(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
+
+// Options::pyramid_level: at most this many levels, none shorter than kMinPyramidSide px.
+constexpr int kMaxPyramidLevel = 4;
+constexpr int kMinPyramidSide = 64;
 
 // Resize: one pixel in kEdgeShare is expected on an edge of a busy frame.
 constexpr std::size_t kEdgeShare = 8;
@@ -98,6 +103,10 @@ Status ValidateOptions(const Options& o) {
   if (o.max_arcs < 1 || o.max_pairs < 1 || o.max_triplets < 1 || o.max_candidates < 1 || o.max_mean_shift_iterations < 1)
     return Invalid("caps (max_arcs, max_pairs, max_triplets, max_candidates, max_mean_shift_iterations) must be >= 1");
   if (o.max_image_pixels < 1) return Invalid("max_image_pixels must be >= 1");
+  if (o.pyramid_level < -1 || o.pyramid_level > kMaxPyramidLevel) return Invalid("pyramid_level must be in [-1, 4] (-1: auto)");
+  if (o.pyramid_max_pixels < 1) return Invalid("pyramid_max_pixels must be >= 1");
+  if (o.coarse_levels < 0 || o.coarse_levels > kMaxPyramidLevel) return Invalid("coarse_levels must be in [0, 4]");
+  if (o.coarse_min_pixels < 0) return Invalid("coarse_min_pixels must be >= 0");
   switch (o.backend) {
     case Backend::kAuto: case Backend::kScalar: case Backend::kSimd: case Backend::kVulkan: break;
     default: return Invalid("backend is not one of Auto, Scalar, Simd, Vulkan");
@@ -164,6 +173,10 @@ struct Detector::Impl {
 #endif
   int width = 0, height = 0;
   std::vector<std::uint8_t> blurred, nms, edge_map;
+  std::vector<std::uint8_t> pyramid[kMaxPyramidLevel];  // level l + 1 of the input (Options::pyramid_level)
+  std::unique_ptr<Impl> coarse[kMaxPyramidLevel];       // Options::coarse_levels
+  std::vector<std::uint8_t> coarse_pixels[kMaxPyramidLevel];
+  DetectionResult coarse_result;
   std::vector<std::int16_t> dx, dy;
   std::vector<std::uint16_t> mag;
   std::vector<std::uint32_t> hist;
@@ -231,23 +244,72 @@ struct Detector::Impl {
     groups.Reserve(w, h, options);
   }
 
-  Status Detect(const ImageView& image, DetectionResult* result);
+  Status Detect(const ImageView& input, DetectionResult* result);
+  Status DetectAt(const ImageView& image, DetectionResult* result);  // one level, no pyramid
+  int PyramidLevel(const ImageView& input) const;
+  ImageView Reduce(const ImageView& input, int level);
   void CompleteOuterRims(int kept, GroupStats* stats);
   int KeepExclusivelySupported(int kept);
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 
+// Options::pyramid_level (-1: the first level of at most pyramid_max_pixels), never one whose
+// shorter side is below kMinPyramidSide px.
+int Detector::Impl::PyramidLevel(const ImageView& input) const {
+  auto pixels = [&](int l) { return static_cast<long long>(input.width >> l) * (input.height >> l); };
+  int level = 0;
+  while (level < kMaxPyramidLevel && std::min(input.width, input.height) >> (level + 1) >= kMinPyramidSide &&
+         (options.pyramid_level < 0 ? pixels(level) > options.pyramid_max_pixels : level < options.pyramid_level))
+    ++level;
+  return level;
+}
+
+// Level `level` of the input's pyramid (the input itself at 0), in Impl::pyramid.
+ImageView Detector::Impl::Reduce(const ImageView& input, int level) {
+  ImageView v = input;
+  for (int l = 0; l < level; ++l) {
+    const std::size_t n = static_cast<std::size_t>(v.width / 2) * (v.height / 2);
+    if (pyramid[l].size() < n) pyramid[l].resize(n);  // on the first frame of a size, or a larger one
+    scalar::PyramidDown(v.data, v.stride, v.width, v.height, pyramid[l].data(), v.width / 2);
+    v = {pyramid[l].data(), v.width / 2, v.height / 2, v.width / 2};
+  }
+  return v;
+}
+
 namespace {
 
-bool NearlySame(const Ellipse& v, const Ellipse& w) {
-  static const Options kRelative = [] {
-    Options o;
-    o.cluster_rule = ClusterRule::kRelative;
-    o.cluster_relative = 0.1;
-    return o;
-  }();
-  return SameEllipse(v, w, kRelative);
+// Ellipses of level `from` in the coordinates of level `to` (< from).
+void ScaleUp(int from, int to, std::vector<Ellipse>* ellipses) {
+  if (from == to) return;
+  for (Ellipse& e : *ellipses) {
+    e.cx = PyramidUp(e.cx, from - to);
+    e.cy = PyramidUp(e.cy, from - to);
+    e.a *= 1 << (from - to);
+    e.b *= 1 << (from - to);
+  }
 }
+
+// The same object found on two levels: centres within 0.25 b, axes within 25 %.
+bool Overlapping(const Ellipse& v, const Ellipse& w) {
+  const double b = std::min(v.b, w.b);
+  return std::hypot(v.cx - w.cx, v.cy - w.cy) < 0.25 * b && std::abs(v.a - w.a) < 0.25 * std::max(v.a, w.a) &&
+         std::abs(v.b - w.b) < 0.25 * std::max(v.b, w.b);
+}
+
+}  // namespace
+
+namespace {
+
+// Built when the library loads: a function-local static would be built on the first frame that
+// finds an outer rim, and registering its destructor (__cxa_atexit) can allocate then.
+const Options kNearlySameRule = [] {
+  Options o;
+  o.cluster_rule = ClusterRule::kRelative;
+  o.cluster_relative = 0.1;
+  return o;
+}();
+
+bool NearlySame(const Ellipse& v, const Ellipse& w) { return SameEllipse(v, w, kNearlySameRule); }
 
 }  // namespace
 
@@ -313,7 +375,52 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   return n;
 }
 
-Status Detector::Impl::Detect(const ImageView& image, DetectionResult* r) {
+Status Detector::Impl::Detect(const ImageView& input, DetectionResult* r) {
+  const auto start = Clock::now();
+  const int level = PyramidLevel(input);
+  ImageView image = Reduce(input, level);
+  Status st = DetectAt(image, r);
+  if (!st.ok()) return st;
+  bool claimed = false;  // the ellipses found so far have claimed their edges on this level
+  // Options::coarse_levels: the next levels too, each by a Detector of its own (its buffers keep
+  // their size), their ellipses added unless one of the finer levels already holds them.
+  const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels;
+  for (int c = 0; coarse_on && c < options.coarse_levels && std::min(image.width, image.height) / 2 >= kMinPyramidSide; ++c) {
+    if (!coarse[c]) {
+      coarse[c] = std::make_unique<Impl>();
+      coarse[c]->options = options;
+      coarse[c]->kernels = kernels;
+    }
+    const std::size_t n = static_cast<std::size_t>(image.width / 2) * (image.height / 2);
+    if (coarse_pixels[c].size() < n) coarse_pixels[c].resize(n);
+    scalar::PyramidDown(image.data, image.stride, image.width, image.height, coarse_pixels[c].data(), image.width / 2);
+    image = {coarse_pixels[c].data(), image.width / 2, image.height / 2, image.width / 2};
+    st = coarse[c]->DetectAt(image, &coarse_result);
+    if (!st.ok()) return st;
+    ScaleUp(level + c + 1, level, &coarse_result.ellipses);
+    // Added only when level `level`'s edges, less those of the ellipses found so far, back it
+    // along min_edge_coverage of its outline: the finer levels' checks (exclusive support, outer
+    // rims) never saw it, and a coarse ellipse through a top and the side below it shares the top's
+    // edges. Measured in docs/resolution.md.
+    if (!claimed) {
+      for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
+      claimed = true;
+    }
+    for (const Ellipse& e : coarse_result.ellipses) {
+      bool known = false;
+      for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) known = Overlapping(r->ellipses[i], e);
+      if (known || EdgeCoverage(EdgeView(), e, options.min_edge_coverage, &claims) < options.min_edge_coverage) continue;
+      r->ellipses.push_back(e);
+      ClaimEdges(EdgeView(), e, &claims);
+    }
+  }
+  ScaleUp(level, 0, &r->ellipses);
+  claims.Clear();
+  r->timings.total_ms = Ms(start, Clock::now());
+  return Status::Ok();
+}
+
+Status Detector::Impl::DetectAt(const ImageView& image, DetectionResult* r) {
   const auto t0 = Clock::now();
   Resize(image.width, image.height);
   const int w = width, h = height;

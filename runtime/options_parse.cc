@@ -71,7 +71,9 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"max_arcs", &Options::max_arcs}, {"max_pairs", &Options::max_pairs},
       {"max_triplets", &Options::max_triplets}, {"max_candidates", &Options::max_candidates},
       {"max_mean_shift_iterations", &Options::max_mean_shift_iterations},
-      {"max_image_pixels", &Options::max_image_pixels},
+      {"max_image_pixels", &Options::max_image_pixels}, {"pyramid_level", &Options::pyramid_level},
+      {"pyramid_max_pixels", &Options::pyramid_max_pixels}, {"coarse_levels", &Options::coarse_levels},
+      {"coarse_min_pixels", &Options::coarse_min_pixels},
   };
   for (const DoubleField& f : doubles) {
     if (name == f.name) return ParseDouble(value, &(o->*f.field)) ? Status::Ok() : bad("a number");

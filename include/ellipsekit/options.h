@@ -60,6 +60,22 @@ struct Options {
   // bit-identical results (DESIGN.md "Backends agree"), so this is for tests and benchmarks.
   std::string simd_target;
 
+  // ---- resolution (our addition; measured in docs/resolution.md)
+  // The paper's thresholds are in pixels (T_c, T_d, the polyline tolerance, T_n) and its gradient
+  // is 3x3, so what a frame shows at 2-3x the resolution, with edges as soft, it finds less of.
+  // The detector works on level L of a 2x2-box image pyramid (kernels/pyramid_down.h: the frame
+  // reduced 2^L times) and reports ellipses in the frame's coordinates.
+  // pyramid_level: L; -1 (auto): the first level with at most pyramid_max_pixels pixels. Never a
+  // level whose shorter side is below 64 px.
+  int pyramid_level = -1;
+  int pyramid_max_pixels = 4000000;
+  // Then, on a working frame of at least coarse_min_pixels pixels, it also detects on the next
+  // coarse_levels levels and adds what they find that the finer ones did not (an ellipse must be
+  // backed by the working level's edges not claimed by finer ellipses, along min_edge_coverage of
+  // its outline).
+  int coarse_levels = 1;
+  int coarse_min_pixels = 400000;
+
   // ---- edges (sec. II-A): Canny with automatic thresholds
   bool gaussian_blur = true;        // 3x3 binomial pre-filter (integer, exact)
   int canny_high_permille = 900;    // high threshold = this per-mille quantile of gradient magnitude

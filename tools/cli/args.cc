@@ -1,5 +1,7 @@
 #include "tools/cli/args.h"
 
+#include "tools/cli/json.h"
+
 #include <cerrno>
 #include <cstdlib>
 
@@ -60,6 +62,17 @@ std::uint64_t ParseUint64Value(const std::string& flag, const std::string& text)
     throw UsageError(flag + ": bad value '" + text + "': expected an unsigned 64-bit integer");
   }
   return static_cast<std::uint64_t>(value);
+}
+
+double ParseDoubleValue(const std::string& flag, const std::string& text, double min_value, double max_value) {
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno == ERANGE || !(value >= min_value && value <= max_value)) {
+    throw UsageError(flag + ": bad value '" + text + "': expected a number in [" + JsonNumber(min_value, 3) + ", " +
+                     JsonNumber(max_value, 3) + "]");
+  }
+  return value;
 }
 
 Backend ParseBackendValue(const std::string& flag, const std::string& text) {

@@ -52,6 +52,7 @@ class ArgReader {
 // Value parsers: throw UsageError naming the flag and the accepted range.
 int ParseIntValue(const std::string& flag, const std::string& text, int min_value, int max_value);
 std::uint64_t ParseUint64Value(const std::string& flag, const std::string& text);
+double ParseDoubleValue(const std::string& flag, const std::string& text, double min_value, double max_value);
 Backend ParseBackendValue(const std::string& flag, const std::string& text);
 // The detector flags shared by every command that detects: --backend B and --option NAME=VALUE
 // (one ellipsekit::SetOption). Returns false when `name` is neither; throws UsageError on a bad value.
