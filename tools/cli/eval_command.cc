@@ -16,12 +16,14 @@
 #include "tools/cli/args.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/draw.h"
+#include "tools/cli/pr_plot.h"
 #include "tools/cli/image_io.h"
 #include "tools/cli/json.h"
 #include "tools/cli/timing.h"
 #include "tools/eval/dataset.h"
 #include "tools/eval/ellipse_io.h"
 #include "tools/eval/metrics.h"
+#include "tools/eval/pr_curve.h"
 
 namespace ellipsekit::cli {
 
@@ -43,6 +45,8 @@ const char kEvalUsage[] =
     "                    higher-resolution camera) and its truth alike (centres (c + 0.5) S - 0.5,\n"
     "                    axes S times), to measure how detection holds across resolutions\n"
     "  --per-image       print one line per image before the totals\n"
+    "  --curve FILE.png  sweep the score threshold: write the precision-recall curve to FILE.png and\n"
+    "                    its points to FILE.csv, print the average precision (tools/eval/pr_curve.h)\n"
     "  --draw DIR        write DIR/<image stem>.png: the (scaled) image with the truth in red, correct\n"
     "                    detections in green, false ones in yellow\n"
     "  --json FILE       also write everything as JSON to FILE\n"
@@ -58,6 +62,7 @@ struct EvalArgs {
   double scale = 1;
   std::string json_path;
   std::string draw_dir;
+  std::string curve_path;
 };
 
 struct ImageScore {
@@ -82,6 +87,9 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
       return a;
     } else if (ApplyDetectorFlag(name, &r, &a.options)) {
       // --backend, --option
+    } else if (name == "--curve") {
+      a.curve_path = r.Value();
+      if (std::filesystem::path(a.curve_path).extension() != ".png") throw UsageError("--curve needs a .png file name");
     } else if (name == "--draw") {
       a.draw_dir = r.Value();
       if (a.draw_dir.empty()) throw UsageError("--draw needs a directory");
@@ -175,11 +183,17 @@ int RunEval(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "ellipsekit eval: %s\n", error.c_str());
     return kExitFailure;
   }
+  if (const std::string parent = std::filesystem::path(args.curve_path).parent_path().string();
+      !args.curve_path.empty() && !parent.empty() && !EnsureDirectory(parent, &error)) {
+    std::fprintf(stderr, "ellipsekit eval: %s\n", error.c_str());
+    return kExitFailure;
+  }
   const bool progress = ::isatty(STDOUT_FILENO) == 1;
   bool failed = false;
   bool warmed_up = false;
   Backend ran = args.options.backend;
   std::vector<ImageScore> scores;
+  std::vector<eval::ScoredDetection> scored;  // --curve
   eval::MatchCounts total;
   DetectionResult result;
   for (std::size_t i = 0; i < dataset.images.size(); ++i) {
@@ -207,6 +221,10 @@ int RunEval(const std::vector<std::string>& argv) {
               result.ellipses, truth, eval::kOverlapThreshold,
               boxes == dataset.dont_care.end() ? std::vector<eval::BoundingBox>{} : boxes->second);
           scores.push_back({item.stem, item.image_path, match.counts, ms});
+          for (std::size_t d = 0; d < result.ellipses.size(); ++d) {
+            if (d < match.detection_ignored.size() && match.detection_ignored[d]) continue;
+            scored.push_back({result.ellipses[d].score, match.truth_of_detection[d] >= 0});
+          }
           if (!args.draw_dir.empty()) st = DrawMatches(args.draw_dir, item.stem, image.gray, truth, result.ellipses, match);
           total += match.counts;
           ran = result.backend;
@@ -250,6 +268,15 @@ int RunEval(const std::vector<std::string>& argv) {
   std::printf("recall: %.4f\n", recall);
   std::printf("F-measure: %.4f\n", f);
   std::printf("median detect ms: %.3f\n", median_ms);
+  if (!args.curve_path.empty()) {
+    const eval::PrCurve curve = eval::ComputePrCurve(scored, total.truth);
+    std::printf("average precision: %.4f\n", curve.average_precision);
+    const std::string csv = std::filesystem::path(args.curve_path).replace_extension(".csv").string();
+    if (!WritePrCurve(curve, std::filesystem::path(args.dataset).filename().string(), args.curve_path, csv, &error)) {
+      std::fprintf(stderr, "ellipsekit eval: %s\n", error.c_str());
+      failed = true;
+    }
+  }
   std::fflush(stdout);
 
   if (!args.json_path.empty()) {
