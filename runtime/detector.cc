@@ -1,6 +1,8 @@
-// Frame orchestration: edges -> curves -> arcs -> candidates -> clusters, with stage timings.
-// Every buffer lives in Detector::Impl and is sized on the first frame of a given size; the
-// vectors only clear() afterwards, so later frames of that size reuse their capacity.
+// Frame orchestration on one pyramid level: the pixel stage (edges -> curves -> arcs) and the back
+// end (candidates -> clusters -> checks), with stage timings; option and image validation; the
+// Detector's public methods. Every buffer lives in Detector::Impl (runtime/detector_impl.h) and is
+// sized on the first frame of a given size; the vectors only clear() afterwards, so later frames
+// of that size reuse their capacity (or grow once, and keep it, for a busier frame).
 #include "ellipsekit/detector.h"
 
 #include <algorithm>
@@ -9,31 +11,15 @@
 #include <cstdint>
 #include <string>
 
-#include "fit/arc_selection.h"
 #include "fit/obb.h"
-#include "fit/clustering.h"
-#include "fit/curve_tracing.h"
 #include "fit/rim_search.h"
-#include "fit/edge_coverage.h"
-#include "fit/edge_refit.h"
-#include "fit/grouping.h"
 #include "kernels/canny_thresholds.h"
-#include "kernels/pyramid_down.h"
 #include "runtime/backend.h"
-#ifdef ELLIPSEKIT_HAVE_VULKAN
-#include "runtime/vulkan_arc_stage.h"
-#include "runtime/vulkan_edge_stage.h"
-#endif
+#include "runtime/detector_impl.h"
 
 namespace ellipsekit {
 
 namespace {
-
-// An axis-aligned box, for cheap "could these two ellipses touch" tests.
-struct Box {
-  double x0, y0, x1, y1;
-  bool Intersects(const Box& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
-};
 
 // The bounding box of e, grown by `margin` px on every side.
 Box BoundingBox(const Ellipse& e, double margin) {
@@ -48,10 +34,6 @@ using Clock = std::chrono::steady_clock;
 double Ms(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
-
-// Options::pyramid_level: at most this many levels, none shorter than kMinPyramidSide px.
-constexpr int kMaxPyramidLevel = 4;
-constexpr int kMinPyramidSide = 64;
 
 // Resize: one pixel in kEdgeShare is expected on an edge of a busy frame.
 constexpr std::size_t kEdgeShare = 8;
@@ -160,143 +142,56 @@ class CoverageCheck final : public CandidateCheck {
   const Options& options_;
 };
 
-struct Detector::Impl {
-  Options options;
-  Status status;
-  const KernelTable* kernels = nullptr;
-  std::string backend_note;  // why the backend or target differs from the one asked for
-#ifdef ELLIPSEKIT_HAVE_VULKAN
-  std::unique_ptr<VulkanEdgeStage> vulkan;  // set when the edge stage runs on a Vulkan device
-  // Set when the arc stage runs on the device too; null (device without shaderInt64) -> the CPU
-  // table runs it, with identical results (every arc-stage kernel is integer-exact).
-  std::unique_ptr<VulkanArcStage> vulkan_arcs;
-#endif
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> blurred, nms, edge_map;
-  std::vector<std::uint8_t> pyramid[kMaxPyramidLevel];  // level l + 1 of the input (Options::pyramid_level)
-  std::unique_ptr<Impl> coarse[kMaxPyramidLevel];       // Options::coarse_levels
-  std::vector<std::uint8_t> coarse_pixels[kMaxPyramidLevel];
-  DetectionResult coarse_result;
-  std::vector<std::int16_t> dx, dy;
-  std::vector<std::uint16_t> mag;
-  std::vector<std::uint32_t> hist;
-  std::vector<std::int32_t> stack;
-  Curves curves, curves_scratch;
-  TraceScratch trace;
-  std::vector<std::int64_t> hull;
-  ArcScratch arc_scratch;
-  std::vector<Arc> arcs;
-  GroupScratch groups;
-  std::vector<Candidate> candidates;
-  ClusterScratch cluster_scratch;
-  EdgeClaims claims;  // Options::min_exclusive_coverage; scratch of RefitToEdges
-  EdgeRefitScratch refit_scratch;
-  std::vector<std::pair<double, int>> by_coverage;
-  std::vector<Box> boxes;
-  std::vector<std::uint8_t> dropped;
-
-  // The first frame of a size sizes two kinds of buffer. Per-pixel planes hold what they must
-  // (15 bytes per pixel: three 1-byte maps, three 2-byte gradient planes, the hysteresis stack of
-  // 4-byte indices, the claims mask; the tracer's bordered copy is sized by TraceCurves itself).
-  // Buffers of edge points, curves and arcs are reserved for a busy frame (kEdgeShare of its
-  // pixels on edges) and, when a frame holds more, grow geometrically (std::vector) and keep what
-  // they grew to; buffers bounded by a cap are reserved up to the cap (ReserveFor). Never the
-  // worst case of this many pixels: that cost ~613 bytes per pixel (bench memory/<backend>/...).
-  void Resize(int w, int h) {
-    if (w == width && h == height) return;
-    width = w;
-    height = h;
-    const std::size_t n = static_cast<std::size_t>(w) * h;
-    blurred.resize(n); nms.resize(n); edge_map.resize(n);
-    dx.resize(n); dy.resize(n); mag.resize(n);
-    hist.resize(kMaxMagnitude + 1);
-    stack.resize(n);  // hysteresis: every pixel at most once
-    claims.Resize(w, h);
-    refit_scratch.Reserve();
-    // Edge pixels after NMS: 1-6 % of a photograph's or a crowded frame's pixels, up to 22 % on
-    // the noisiest generated scenes (measured: `ellipsekit detect --format json`, counts).
-    const std::size_t points = n / kEdgeShare;
-    const std::size_t curve_count = points / static_cast<std::size_t>(std::max(3, options.min_curve_points)) + 1;
-    const std::size_t long_curve = std::min<std::size_t>(points, 4 * (static_cast<std::size_t>(w) + h));
-    const std::size_t arc_count = std::min<std::size_t>(points / 8, ReserveFor(options.max_arcs));
-    for (Curves* c : {&curves, &curves_scratch}) {
-      c->x.reserve(points); c->y.reserve(points); c->gx.reserve(points); c->gy.reserve(points);
-      c->offset.reserve(curve_count + 1); c->sign_class.reserve(curve_count);
-    }
-    trace.forward.reserve(long_curve);
-    trace.backward.reserve(long_curve);
-    const auto obb_scratch = static_cast<std::size_t>(ObbScratchSize(long_curve, std::min<std::size_t>(long_curve, w)));
-    hull.reserve(obb_scratch);
-    arc_scratch.hull.reserve(obb_scratch);
-    arc_scratch.polylines.vertex.reserve(points / 4);
-    arc_scratch.polylines.offset.reserve(curve_count + 1);
-    arc_scratch.splits.index.reserve(points / 4);
-    arc_scratch.splits.offset.reserve(curve_count + 1);
-    arc_scratch.stack.reserve(2 * long_curve);
-    arc_scratch.stats.reserve(arc_count);
-    arcs.reserve(arc_count);
-    candidates.reserve(ReserveFor(options.max_candidates));
-    cluster_scratch.head.reserve(static_cast<std::size_t>((ClusterScratch::kMaxCells + 1) * (ClusterScratch::kMaxCells + 1)));
-    cluster_scratch.next.reserve(ReserveFor(options.max_candidates));
-    by_coverage.reserve(ReserveFor(options.max_candidates));
-    boxes.reserve(ReserveFor(options.max_candidates));
-    dropped.reserve(ReserveFor(options.max_candidates));
-    groups.Reserve(w, h, options);
+// The first frame of a size sizes two kinds of buffer. Per-pixel planes hold what they must
+// (15 bytes per pixel: three 1-byte maps, three 2-byte gradient planes, the hysteresis stack of
+// 4-byte indices, the claims mask; the tracer's bordered copy is sized by TraceCurves itself).
+// Buffers of edge points, curves and arcs are reserved for a busy frame (kEdgeShare of its
+// pixels on edges) and, when a frame holds more, grow geometrically (std::vector) and keep what
+// they grew to; buffers bounded by a cap are reserved up to the cap (ReserveFor). Never the
+// worst case of this many pixels: that cost ~613 bytes per pixel (bench memory/<backend>/...).
+void Detector::Impl::Resize(int w, int h) {
+  if (w == width && h == height) return;
+  width = w;
+  height = h;
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  blurred.resize(n); nms.resize(n); edge_map.resize(n);
+  dx.resize(n); dy.resize(n); mag.resize(n);
+  hist.resize(kMaxMagnitude + 1);
+  stack.resize(n);  // hysteresis: every pixel at most once
+  claims.Resize(w, h);
+  refit_scratch.Reserve();
+  // Edge pixels after NMS: 1-6 % of a photograph's or a crowded frame's pixels, up to 22 % on
+  // the noisiest generated scenes (measured: `ellipsekit detect --format json`, counts).
+  const std::size_t points = n / kEdgeShare;
+  const std::size_t curve_count = points / static_cast<std::size_t>(std::max(3, options.min_curve_points)) + 1;
+  const std::size_t long_curve = std::min<std::size_t>(points, 4 * (static_cast<std::size_t>(w) + h));
+  const std::size_t arc_count = std::min<std::size_t>(points / 8, ReserveFor(options.max_arcs));
+  for (Curves* c : {&curves, &curves_scratch}) {
+    c->x.reserve(points); c->y.reserve(points); c->gx.reserve(points); c->gy.reserve(points);
+    c->offset.reserve(curve_count + 1); c->sign_class.reserve(curve_count);
   }
-
-  Status Detect(const ImageView& input, DetectionResult* result);
-  Status DetectAt(const ImageView& image, DetectionResult* result);  // one level, no pyramid
-  int PyramidLevel(const ImageView& input) const;
-  ImageView Reduce(const ImageView& input, int level);
-  void CompleteOuterRims(int kept, GroupStats* stats);
-  int KeepExclusivelySupported(int kept);
-  EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
-};
-
-// Options::pyramid_level (-1: the first level of at most pyramid_max_pixels), never one whose
-// shorter side is below kMinPyramidSide px.
-int Detector::Impl::PyramidLevel(const ImageView& input) const {
-  auto pixels = [&](int l) { return static_cast<long long>(input.width >> l) * (input.height >> l); };
-  int level = 0;
-  while (level < kMaxPyramidLevel && std::min(input.width, input.height) >> (level + 1) >= kMinPyramidSide &&
-         (options.pyramid_level < 0 ? pixels(level) > options.pyramid_max_pixels : level < options.pyramid_level))
-    ++level;
-  return level;
+  trace.forward.reserve(long_curve);
+  trace.backward.reserve(long_curve);
+  const auto obb_scratch = static_cast<std::size_t>(ObbScratchSize(long_curve, std::min<std::size_t>(long_curve, w)));
+  hull.reserve(obb_scratch);
+  arc_scratch.hull.reserve(obb_scratch);
+  arc_scratch.polylines.vertex.reserve(points / 4);
+  arc_scratch.polylines.offset.reserve(curve_count + 1);
+  arc_scratch.splits.index.reserve(points / 4);
+  arc_scratch.splits.offset.reserve(curve_count + 1);
+  arc_scratch.stack.reserve(2 * long_curve);
+  arc_scratch.stats.reserve(arc_count);
+  arcs.reserve(arc_count);
+  candidates.reserve(ReserveFor(options.max_candidates));
+  cluster_scratch.head.reserve(static_cast<std::size_t>((ClusterScratch::kMaxCells + 1) * (ClusterScratch::kMaxCells + 1)));
+  cluster_scratch.next.reserve(ReserveFor(options.max_candidates));
+  by_coverage.reserve(ReserveFor(options.max_candidates));
+  boxes.reserve(ReserveFor(options.max_candidates));
+  dropped.reserve(ReserveFor(options.max_candidates));
+  groups.Reserve(w, h, options);
 }
 
-// Level `level` of the input's pyramid (the input itself at 0), in Impl::pyramid.
-ImageView Detector::Impl::Reduce(const ImageView& input, int level) {
-  ImageView v = input;
-  for (int l = 0; l < level; ++l) {
-    const std::size_t n = static_cast<std::size_t>(v.width / 2) * (v.height / 2);
-    if (pyramid[l].size() < n) pyramid[l].resize(n);  // on the first frame of a size, or a larger one
-    scalar::PyramidDown(v.data, v.stride, v.width, v.height, pyramid[l].data(), v.width / 2);
-    v = {pyramid[l].data(), v.width / 2, v.height / 2, v.width / 2};
-  }
-  return v;
-}
 
-namespace {
-
-// Ellipses of level `from` in the coordinates of level `to` (< from).
-void ScaleUp(int from, int to, std::vector<Ellipse>* ellipses) {
-  if (from == to) return;
-  for (Ellipse& e : *ellipses) {
-    e.cx = PyramidUp(e.cx, from - to);
-    e.cy = PyramidUp(e.cy, from - to);
-    e.a *= 1 << (from - to);
-    e.b *= 1 << (from - to);
-  }
-}
-
-// The same object found on two levels: centres within 0.25 b, axes within 25 %.
-bool Overlapping(const Ellipse& v, const Ellipse& w) {
-  const double b = std::min(v.b, w.b);
-  return std::hypot(v.cx - w.cx, v.cy - w.cy) < 0.25 * b && std::abs(v.a - w.a) < 0.25 * std::max(v.a, w.a) &&
-         std::abs(v.b - w.b) < 0.25 * std::max(v.b, w.b);
-}
-
-}  // namespace
 
 namespace {
 
@@ -375,52 +270,7 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   return n;
 }
 
-Status Detector::Impl::Detect(const ImageView& input, DetectionResult* r) {
-  const auto start = Clock::now();
-  const int level = PyramidLevel(input);
-  ImageView image = Reduce(input, level);
-  Status st = DetectAt(image, r);
-  if (!st.ok()) return st;
-  bool claimed = false;  // the ellipses found so far have claimed their edges on this level
-  // Options::coarse_levels: the next levels too, each by a Detector of its own (its buffers keep
-  // their size), their ellipses added unless one of the finer levels already holds them.
-  const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels;
-  for (int c = 0; coarse_on && c < options.coarse_levels && std::min(image.width, image.height) / 2 >= kMinPyramidSide; ++c) {
-    if (!coarse[c]) {
-      coarse[c] = std::make_unique<Impl>();
-      coarse[c]->options = options;
-      coarse[c]->kernels = kernels;
-    }
-    const std::size_t n = static_cast<std::size_t>(image.width / 2) * (image.height / 2);
-    if (coarse_pixels[c].size() < n) coarse_pixels[c].resize(n);
-    scalar::PyramidDown(image.data, image.stride, image.width, image.height, coarse_pixels[c].data(), image.width / 2);
-    image = {coarse_pixels[c].data(), image.width / 2, image.height / 2, image.width / 2};
-    st = coarse[c]->DetectAt(image, &coarse_result);
-    if (!st.ok()) return st;
-    ScaleUp(level + c + 1, level, &coarse_result.ellipses);
-    // Added only when level `level`'s edges, less those of the ellipses found so far, back it
-    // along min_edge_coverage of its outline: the finer levels' checks (exclusive support, outer
-    // rims) never saw it, and a coarse ellipse through a top and the side below it shares the top's
-    // edges. Measured in docs/resolution.md.
-    if (!claimed) {
-      for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
-      claimed = true;
-    }
-    for (const Ellipse& e : coarse_result.ellipses) {
-      bool known = false;
-      for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) known = Overlapping(r->ellipses[i], e);
-      if (known || EdgeCoverage(EdgeView(), e, options.min_edge_coverage, &claims) < options.min_edge_coverage) continue;
-      r->ellipses.push_back(e);
-      ClaimEdges(EdgeView(), e, &claims);
-    }
-  }
-  ScaleUp(level, 0, &r->ellipses);
-  claims.Clear();
-  r->timings.total_ms = Ms(start, Clock::now());
-  return Status::Ok();
-}
-
-Status Detector::Impl::DetectAt(const ImageView& image, DetectionResult* r) {
+Status Detector::Impl::PixelStageAt(const ImageView& image) {
   const auto t0 = Clock::now();
   Resize(image.width, image.height);
   const int w = width, h = height;
@@ -483,11 +333,22 @@ Status Detector::Impl::DetectAt(const ImageView& image, DetectionResult* r) {
     SelectArcs(k, curves, options, &arc_scratch, &arcs, &arcs_capped);
   }
   const auto t3 = Clock::now();
+  front.ran = ran;
+  front.arcs_ran = arcs_ran;
+  front.arcs_capped = arcs_capped;
+  front.edge_pixels = edge_pixels;
+  front.edges_ms = Ms(t0, t1);
+  front.curves_ms = Ms(t1, t2);
+  front.arcs_ms = Ms(t2, t3);
+  return Status::Ok();
+}
 
+void Detector::Impl::BackEndAt(DetectionResult* r) {
+  const auto t3 = Clock::now();
   // Grouping, centres, parameters, validation by K and psi (sec. II-B-3 to II-D-2).
   candidates.clear();
   GroupStats gs;
-  if (arcs_capped) gs.caps_hit |= kCapArcs;
+  if (front.arcs_capped) gs.caps_hit |= kCapArcs;
   FindCandidates(curves, arcs, options, &groups, &candidates, &gs);
   const int num_candidates = static_cast<int>(candidates.size());
   const auto t4 = Clock::now();
@@ -507,23 +368,22 @@ Status Detector::Impl::DetectAt(const ImageView& image, DetectionResult* r) {
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);
   const auto t5 = Clock::now();
 
-  r->backend = ran;
-  r->arc_backend = arcs_ran;
-  r->simd_target = ran == Backend::kSimd ? k.simd_target : "";
+  r->backend = front.ran;
+  r->arc_backend = front.arcs_ran;
+  r->simd_target = front.ran == Backend::kSimd ? kernels->simd_target : "";
   r->caps_hit = gs.caps_hit;
-  r->num_edge_pixels = edge_pixels;
+  r->num_edge_pixels = front.edge_pixels;
   r->num_curves = curves.size();
   r->num_arcs = static_cast<int>(arcs.size());
   r->num_pairs = gs.pairs;
   r->num_triplets = gs.triplets;
   r->num_candidates = num_candidates;
-  r->timings.edges_ms = Ms(t0, t1);
-  r->timings.curves_ms = Ms(t1, t2);
-  r->timings.arcs_ms = Ms(t2, t3);
+  r->timings.edges_ms = front.edges_ms;
+  r->timings.curves_ms = front.curves_ms;
+  r->timings.arcs_ms = front.arcs_ms;
   r->timings.fit_ms = Ms(t3, t4);
   r->timings.validate_ms = Ms(t4, t5);
-  r->timings.total_ms = Ms(t0, t5);
-  return Status::Ok();
+  r->timings.total_ms = front.edges_ms + front.curves_ms + front.arcs_ms + Ms(t3, t5);
 }
 
 Detector::Detector(const Options& options) : impl_(std::make_unique<Impl>()) {

@@ -1,0 +1,105 @@
+// Detector::Impl: the buffers and the steps of one Detector. runtime/detector.cc holds the steps
+// of one pyramid level, split into the pixel stage and the back end; runtime/detector_pyramid.cc
+// the pyramid levels around them; runtime/stream.cc runs the two stages of several Detectors on
+// two threads. Private to the library.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ellipsekit/detector.h"
+#include "fit/arc_selection.h"
+#include "fit/clustering.h"
+#include "fit/curve_tracing.h"
+#include "fit/edge_coverage.h"
+#include "fit/edge_map_view.h"
+#include "fit/edge_refit.h"
+#include "fit/grouping.h"
+#include "kernels/kernel_table.h"
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+#include "runtime/vulkan_arc_stage.h"
+#include "runtime/vulkan_edge_stage.h"
+#endif
+
+namespace ellipsekit {
+
+// Options::pyramid_level: at most this many levels, none shorter than kMinPyramidSide px.
+inline constexpr int kMaxPyramidLevel = 4;
+inline constexpr int kMinPyramidSide = 64;
+
+// An axis-aligned box, for cheap "could these two ellipses touch" tests.
+struct Box {
+  double x0, y0, x1, y1;
+  bool Intersects(const Box& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+};
+
+struct Detector::Impl {
+  Options options;
+  Status status;
+  const KernelTable* kernels = nullptr;
+  std::string backend_note;  // why the backend or target differs from the one asked for
+#ifdef ELLIPSEKIT_HAVE_VULKAN
+  std::unique_ptr<VulkanEdgeStage> vulkan;  // set when the edge stage runs on a Vulkan device
+  // Set when the arc stage runs on the device too; null (device without shaderInt64) -> the CPU
+  // table runs it, with identical results (every arc-stage kernel is integer-exact).
+  std::unique_ptr<VulkanArcStage> vulkan_arcs;
+#endif
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> blurred, nms, edge_map;
+  std::vector<std::uint8_t> pyramid[kMaxPyramidLevel];  // level l + 1 of the input (Options::pyramid_level)
+  std::unique_ptr<Impl> coarse[kMaxPyramidLevel];       // Options::coarse_levels
+  std::vector<std::uint8_t> coarse_pixels[kMaxPyramidLevel];
+  DetectionResult coarse_result;
+  std::vector<std::int16_t> dx, dy;
+  std::vector<std::uint16_t> mag;
+  std::vector<std::uint32_t> hist;
+  std::vector<std::int32_t> stack;
+  Curves curves, curves_scratch;
+  TraceScratch trace;
+  std::vector<std::int64_t> hull;
+  ArcScratch arc_scratch;
+  std::vector<Arc> arcs;
+  GroupScratch groups;
+  std::vector<Candidate> candidates;
+  ClusterScratch cluster_scratch;
+  EdgeClaims claims;  // Options::min_exclusive_coverage; scratch of RefitToEdges
+  EdgeRefitScratch refit_scratch;
+  std::vector<std::pair<double, int>> by_coverage;
+  std::vector<Box> boxes;
+  std::vector<std::uint8_t> dropped;
+
+  // The first frame of a size sizes the buffers (detector.cc).
+  void Resize(int w, int h);
+
+  // One frame: the pixel stage (edges, curves, arcs), then the back end (grouping to the final
+  // ellipses). runtime/stream.cc runs the two on different threads, for different frames, each
+  // frame on an Impl of its own; the back end reads what the pixel stage left in this Impl.
+  Status Detect(const ImageView& input, DetectionResult* result) {
+    const Status st = PixelStage(input);
+    return st.ok() ? BackEnd(result) : st;
+  }
+  Status PixelStage(const ImageView& input);  // detector_pyramid.cc: the level, then PixelStageAt
+  Status BackEnd(DetectionResult* result);    // detector_pyramid.cc: BackEndAt, coarse levels
+  Status PixelStageAt(const ImageView& image);  // detector.cc: one level's edges, curves, arcs
+  void BackEndAt(DetectionResult* result);      // detector.cc: one level's back end
+  int PyramidLevel(const ImageView& input) const;
+  ImageView Reduce(const ImageView& input, int level);
+
+  // What the pixel stage of the current frame left for its back end.
+  struct Front {
+    ImageView image;  // the level it ran on (in `pyramid`, or the caller's frame at level 0)
+    int level = 0;
+    Backend ran = Backend::kScalar, arcs_ran = Backend::kScalar;
+    bool arcs_capped = false;
+    int edge_pixels = 0;
+    double total_ms = 0, edges_ms = 0, curves_ms = 0, arcs_ms = 0;
+  } front;
+  void CompleteOuterRims(int kept, GroupStats* stats);
+  int KeepExclusivelySupported(int kept);
+  EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
+};
+
+}  // namespace ellipsekit

@@ -1,0 +1,128 @@
+// The pyramid around one level's detection (Options::pyramid_level, coarse_levels): the working
+// level and its reduction before the pixel stage; the coarser levels and the frame's coordinates
+// after the back end.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "kernels/pyramid_down.h"
+#include "runtime/detector_impl.h"
+
+namespace ellipsekit {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+// Options::pyramid_level (-1: the first level of at most pyramid_max_pixels), never one whose
+// shorter side is below kMinPyramidSide px.
+int Detector::Impl::PyramidLevel(const ImageView& input) const {
+  auto pixels = [&](int l) { return static_cast<long long>(input.width >> l) * (input.height >> l); };
+  int level = 0;
+  while (level < kMaxPyramidLevel && std::min(input.width, input.height) >> (level + 1) >= kMinPyramidSide &&
+         (options.pyramid_level < 0 ? pixels(level) > options.pyramid_max_pixels : level < options.pyramid_level))
+    ++level;
+  return level;
+}
+
+// Level `level` of the input's pyramid (the input itself at 0), in Impl::pyramid.
+ImageView Detector::Impl::Reduce(const ImageView& input, int level) {
+  ImageView v = input;
+  for (int l = 0; l < level; ++l) {
+    const std::size_t n = static_cast<std::size_t>(v.width / 2) * (v.height / 2);
+    if (pyramid[l].size() < n) pyramid[l].resize(n);  // on the first frame of a size, or a larger one
+    scalar::PyramidDown(v.data, v.stride, v.width, v.height, pyramid[l].data(), v.width / 2);
+    v = {pyramid[l].data(), v.width / 2, v.height / 2, v.width / 2};
+  }
+  return v;
+}
+
+namespace {
+
+// Ellipses of level `from` in the coordinates of level `to` (< from).
+void ScaleUp(int from, int to, std::vector<Ellipse>* ellipses) {
+  if (from == to) return;
+  for (Ellipse& e : *ellipses) {
+    e.cx = PyramidUp(e.cx, from - to);
+    e.cy = PyramidUp(e.cy, from - to);
+    e.a *= 1 << (from - to);
+    e.b *= 1 << (from - to);
+  }
+}
+
+// The same object found on two levels: centres within 0.25 b, axes within 25 %.
+bool Overlapping(const Ellipse& v, const Ellipse& w) {
+  const double b = std::min(v.b, w.b);
+  return std::hypot(v.cx - w.cx, v.cy - w.cy) < 0.25 * b && std::abs(v.a - w.a) < 0.25 * std::max(v.a, w.a) &&
+         std::abs(v.b - w.b) < 0.25 * std::max(v.b, w.b);
+}
+
+}  // namespace
+
+Status Detector::Impl::PixelStage(const ImageView& input) {
+  const auto start = Clock::now();
+  front.level = PyramidLevel(input);
+  front.image = Reduce(input, front.level);
+  const double reduce_ms = Ms(start, Clock::now());
+  const Status st = PixelStageAt(front.image);
+  front.total_ms = reduce_ms;
+  return st;
+}
+
+Status Detector::Impl::BackEnd(DetectionResult* r) {
+  const auto start = Clock::now();
+  const double front_ms = front.total_ms;  // the reduction; BackEndAt counts the level's stages
+  BackEndAt(r);
+  const int level = front.level;
+  ImageView image = front.image;
+  bool claimed = false;  // the ellipses found so far have claimed their edges on this level
+  // Options::coarse_levels: the next levels too, each by a Detector of its own (its buffers keep
+  // their size), their ellipses added unless one of the finer levels already holds them.
+  const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels;
+  for (int c = 0; coarse_on && c < options.coarse_levels && std::min(image.width, image.height) / 2 >= kMinPyramidSide; ++c) {
+    if (!coarse[c]) {
+      coarse[c] = std::make_unique<Impl>();
+      coarse[c]->options = options;
+      coarse[c]->kernels = kernels;
+      coarse[c]->options.pyramid_level = 0;  // it is handed its level
+      coarse[c]->options.coarse_levels = 0;
+    }
+    const std::size_t n = static_cast<std::size_t>(image.width / 2) * (image.height / 2);
+    if (coarse_pixels[c].size() < n) coarse_pixels[c].resize(n);
+    scalar::PyramidDown(image.data, image.stride, image.width, image.height, coarse_pixels[c].data(), image.width / 2);
+    image = {coarse_pixels[c].data(), image.width / 2, image.height / 2, image.width / 2};
+    const Status st = coarse[c]->PixelStage(image);
+    if (!st.ok()) return st;
+    coarse[c]->BackEndAt(&coarse_result);
+    ScaleUp(level + c + 1, level, &coarse_result.ellipses);
+    // Added only when level `level`'s edges, less those of the ellipses found so far, back it
+    // along min_edge_coverage of its outline: the finer levels' checks (exclusive support, outer
+    // rims) never saw it, and a coarse ellipse through a top and the side below it shares the top's
+    // edges. Measured in docs/resolution.md.
+    if (!claimed) {
+      for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
+      claimed = true;
+    }
+    for (const Ellipse& e : coarse_result.ellipses) {
+      bool known = false;
+      for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) known = Overlapping(r->ellipses[i], e);
+      if (known || EdgeCoverage(EdgeView(), e, options.min_edge_coverage, &claims) < options.min_edge_coverage) continue;
+      r->ellipses.push_back(e);
+      ClaimEdges(EdgeView(), e, &claims);
+    }
+  }
+  ScaleUp(level, 0, &r->ellipses);
+  claims.Clear();
+  // The reduction, the level's pixel stage, and everything since (back end, coarser levels).
+  const StageTimings& t = r->timings;
+  r->timings.total_ms = front_ms + t.edges_ms + t.curves_ms + t.arcs_ms + Ms(start, Clock::now());
+  return Status::Ok();
+}
+
+}  // namespace ellipsekit
