@@ -3,7 +3,9 @@
 #   scripts/test.sh              Release build in build/
 #   scripts/test.sh --sanitize   RelWithDebInfo + AddressSanitizer/UBSan in build-asan/
 #   scripts/test.sh --tsan       RelWithDebInfo + ThreadSanitizer in build-tsan/, concurrency test only
-# The output ends with ctest's summary; the exit status is ctest's.
+# The output ends with ctest's summary; the exit status is ctest's. The Python suites (pytest, python/tests)
+# are ctest tests too (python_*, `ctest -L python`), in the Release build only: the sanitizer builds
+# do not build the Python module (an instrumented extension cannot load into a plain python3).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
