@@ -111,7 +111,8 @@ def _gt_spec(gt_dir):
 def _parse_args(argv):
     p = argparse.ArgumentParser(
         prog="python3 -m ellipsekit.batch",
-        description="Detect ellipses in many images on a Dask cluster; one JSON line per image.")
+        description="Detect ellipses in many images on a Dask cluster; one JSON line per image.",
+        epilog=__doc__[__doc__.index("INPUT: "):], formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="files, directories (recursive) or globs")
     p.add_argument("--out", required=True, metavar="FILE", help="output JSON lines file")
     p.add_argument("--workers", type=int, default=None, metavar="N",
