@@ -54,8 +54,6 @@ def _option_text(name, value):
 class Detector:
     """An ellipse detector with its options fixed at construction.
 
-    Detector(backend="auto", **options)
-
     backend: "auto" (the SIMD kernels on this CPU), "scalar" (the reference), "simd" or "vulkan";
         every backend gives the same ellipses.
     options: any field of ellipsekit::Options by its name, as the CLI's --option NAME=VALUE
