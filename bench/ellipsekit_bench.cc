@@ -25,6 +25,8 @@
 //                                         (bench/crowded_bench.h); counter ms_per_ellipse
 //   memory/<backend>/<W>x<H>              heap a Detector holds after one frame, per pixel
 //                                         (bench/memory_bench.h); counter bytes_per_px
+//   stream/<backend>/scenes200/depth:<d>  a Stream over the 200 scenes (bench/stream_bench.h);
+//                                         items/s = frames/s, latency_median_ms, latency_p99_ms
 // Test frames for kernels / edge stage: the first prasad image, resized (cv::resize) to each size,
 // so the edge density is realistic. OpenCV runs single-threaded (cv::setNumThreads(1)).
 #include <benchmark/benchmark.h>
@@ -49,6 +51,7 @@
 #include "bench/crowded_bench.h"
 #include "bench/end_to_end_bench.h"
 #include "bench/memory_bench.h"
+#include "bench/stream_bench.h"
 #include "ellipsekit/detector.h"
 #include "kernels/canny_thresholds.h"
 #include "kernels/edge_sign.h"
@@ -622,6 +625,7 @@ int main(int argc, char** argv) {
   ellipsekit::bench::RegisterEndToEndBenchmarks();
   ellipsekit::bench::RegisterCrowdedBenchmarks();
   ellipsekit::bench::RegisterMemoryBenchmarks();
+  ellipsekit::bench::RegisterStreamBenchmarks();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -115,6 +115,7 @@ const SceneSet& Scenes200() {
 }
 
 void BM_DetectScenes200(benchmark::State& st, ek::Backend backend) {
+  // frames/s as items/s, beside stream/<backend>/scenes200 (stream_bench.h)
   ek::Detector* det = ReadyDetector(st, backend);
   if (det == nullptr) return;
   const SceneSet& set = Scenes200();
@@ -124,6 +125,7 @@ void BM_DetectScenes200(benchmark::State& st, ek::Backend backend) {
       if (!det->detect(View(f), &r).ok()) { st.SkipWithError("detect failed"); return; }
     }
   }
+  st.SetItemsProcessed(st.iterations() * static_cast<std::int64_t>(set.frames.size()));
 }
 
 void BM_BlurCannyScenes200(benchmark::State& st) {
@@ -201,6 +203,15 @@ void RegisterEndToEndBenchmarks() {
         ->UseRealTime();
   }
   benchmark::RegisterBenchmark("opencv_blur_canny_image/scenes200", BM_BlurCannyScenes200)->UseRealTime();
+#endif
+}
+
+const std::vector<cv::Mat>& GeneratedScenes200() {
+#ifdef ELLIPSEKIT_BENCH_HAVE_SCENES
+  return Scenes200().frames;
+#else
+  static const std::vector<cv::Mat> kNone;
+  return kNone;
 #endif
 }
 

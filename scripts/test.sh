@@ -2,7 +2,7 @@
 # Builds ellipsekit and runs the whole test suite with ctest.
 #   scripts/test.sh              Release build in build/
 #   scripts/test.sh --sanitize   RelWithDebInfo + AddressSanitizer/UBSan in build-asan/
-#   scripts/test.sh --tsan       RelWithDebInfo + ThreadSanitizer in build-tsan/, concurrency test only
+#   scripts/test.sh --tsan       RelWithDebInfo + ThreadSanitizer in build-tsan/, concurrency and stream tests only
 # The output ends with ctest's summary; the exit status is ctest's. The Python suites (pytest, python/tests)
 # are ctest tests too (python_*, `ctest -L python`), in the Release build only: the sanitizer builds
 # do not build the Python module (an instrumented extension cannot load into a plain python3).
@@ -36,10 +36,10 @@ if [[ $tsan -eq 1 ]]; then
     -DCMAKE_EXE_LINKER_FLAGS="$tsan_flags" \
     -DCMAKE_SHARED_LINKER_FLAGS="$tsan_flags" \
     -DCMAKE_MODULE_LINKER_FLAGS="$tsan_flags" >/dev/null
-  cmake --build "$build_dir" -j2 --target test_concurrency
+  cmake --build "$build_dir" -j2 --target test_concurrency test_stream
   # Any data race fails the test that triggered it.
   export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}"
-  exec ctest --test-dir "$build_dir" --output-on-failure -j1 --no-label-summary -R '^Backends/Concurrency\.'
+  exec ctest --test-dir "$build_dir" --output-on-failure -j1 --no-label-summary -R '^(Backends/Concurrency|Stream)\.'
 fi
 
 if [[ $sanitize -eq 1 ]]; then

@@ -31,6 +31,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ellipsekit/detector.h"
+#include "ellipsekit/stream.h"
 #include "tools/scenes/crowded_scenes.h"
 #include "tools/scenes/scene_generator.h"
 
@@ -261,6 +262,38 @@ TEST(NoAllocation, Simd) { ExpectNoAllocation(Backend::kSimd); }
 TEST(NoAllocation, Vulkan) { ExpectNoAllocation(Backend::kVulkan); }
 TEST(NoAllocation, CrowdedFrames) { ExpectNoAllocation(Backend::kSimd, CrowdedFrames); }
 TEST(NoAllocation, EdgesBeyondTheReservedShare) { ExpectNoAllocation(Backend::kSimd, StripeFrames); }
+// A Stream allocates everything when it is created: submit() and wait() on frames of its size
+// allocate nothing, neither on the calling thread nor on its worker thread (once the caller's
+// StreamResult has taken one result, as a DetectionResult does with detect()).
+TEST(NoAllocation, Stream) {
+  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc; counted in the plain build";
+  cv::Mat a, b;
+  Frames(&a, &b);
+  ellipsekit::Options o;
+  o.backend = Backend::kSimd;
+  ellipsekit::Stream stream(o, a.cols, a.rows, 2);
+  if (!stream.status().ok()) GTEST_SKIP() << stream.status().message();
+  ellipsekit::StreamResult r;  // its ellipse vector is sized by the first result it takes
+  ASSERT_TRUE(stream.submit({a.data, a.cols, a.rows, static_cast<std::ptrdiff_t>(a.step[0])}, 0).ok());
+  ASSERT_TRUE(stream.wait(&r).ok());
+  g_counted = 0;
+  g_other = 0;
+  g_num_traces = 0;
+  g_counting_threads.fetch_add(1);
+  t_counting = true;
+  bool ok = true;
+  for (int round = 0; round < 3 && ok; ++round) {
+    for (const cv::Mat* m : {&a, &b}) ok = ok && stream.submit({m->data, m->cols, m->rows, static_cast<std::ptrdiff_t>(m->step[0])}, 0).ok();
+    for (int i = 0; i < 2 && ok; ++i) ok = stream.wait(&r).ok() && r.status.ok();
+  }
+  t_counting = false;
+  g_counting_threads.fetch_sub(1);
+  ASSERT_TRUE(ok);
+  if (g_counted.load() != 0) PrintTraces();
+  EXPECT_EQ(g_counted.load(), 0) << "submit()/wait() allocated on the calling thread; backtraces on stderr";
+  EXPECT_EQ(g_other.load(), 0) << "the stream's worker thread allocated";
+}
+
 TEST(NoAllocation, CrowdedFramesSpentBudget) { ExpectNoAllocation(Backend::kSimd, CrowdedFrames, 200); }
 
 // The counter itself works (guards against a hook that silently is not linked in): operator new

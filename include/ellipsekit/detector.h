@@ -85,6 +85,7 @@ class Detector {
   Status detect(const ImageView& image, DetectionResult* result);
 
  private:
+  friend class Stream;  // runs the pixel stage and the back end of a frame apart (stream.h)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -3,4 +3,5 @@
 
 #include "ellipsekit/detector.h"
 #include "ellipsekit/options.h"
+#include "ellipsekit/stream.h"
 #include "ellipsekit/types.h"
