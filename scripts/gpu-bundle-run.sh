@@ -62,13 +62,13 @@ fi
 libpath=$here/lib
 probe() {
   (cd "$here/work" && LD_LIBRARY_PATH=$1 "$here/bin/ellipsekit" --help >/dev/null 2>"$here/work/.probe" &&
-   LD_LIBRARY_PATH=$1 "$here/bin/ellipsekit_bench" --benchmark_list_tests --benchmark_filter=NONE >/dev/null 2>>"$here/work/.probe")
+   LD_LIBRARY_PATH=$1 "$here/bin/ellipsekit_bench" --benchmark_list_tests --benchmark_filter='^edge_stage/simd/64x48' >/dev/null 2>>"$here/work/.probe")
 }
 if probe "$libpath"; then
   say "- libstdc++/glvnd: the machine's"
-elif probe "$libpath:$here/lib/compat"; then
+elif why=$(head -1 "$here/work/.probe"); probe "$libpath:$here/lib/compat"; then
   libpath=$libpath:$here/lib/compat
-  say "- libstdc++/glvnd: the bundle's lib/compat (the machine's did not load the programs: $(head -1 "$here/work/.probe"))"
+  say "- libstdc++/glvnd: the bundle's lib/compat (the machine's did not load the programs: $why)"
 else
   say "run.sh: the programs do not start with the bundle's libraries:"
   sed 's/^/    /' "$here/work/.probe" | tee -a "$out"
@@ -105,10 +105,11 @@ say ""
 say "## Device"
 say ""
 say '```'
-if command -v vulkaninfo >/dev/null 2>&1; then vi=(vulkaninfo); else vi=(bundled "$here/bin/vulkaninfo"); fi
-if [[ "${vi[0]}" == vulkaninfo || -x "$here/bin/vulkaninfo" ]]; then
-  echo "\$ vulkaninfo --summary  (${vi[*]})" >>"$out"
-  "${vi[@]}" --summary >>"$out" 2>&1 || echo "(vulkaninfo failed: $?)" >>"$out"
+# The bundle's vulkaninfo (with the loader chosen above), else the machine's.
+if [[ -x "$here/bin/vulkaninfo" ]]; then vi=(bundled "$here/bin/vulkaninfo"); else vi=(vulkaninfo); fi
+if [[ "${vi[0]}" == bundled ]] || command -v vulkaninfo >/dev/null 2>&1; then
+  echo "\$ vulkaninfo --summary  (${vi[*]: -1})" >>"$out"
+  { "${vi[@]}" --summary 2>&1 || echo "(vulkaninfo failed: $?)"; } | grep -v 'XDG_RUNTIME_DIR' >>"$out"
 else
   echo "(no vulkaninfo on this machine or in the bundle)" >>"$out"
 fi
