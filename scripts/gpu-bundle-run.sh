@@ -37,6 +37,7 @@ case "$loader_mode" in auto|system|bundle) ;; *) echo "run.sh: --loader auto|sys
 [[ -n "$out" ]] || out=$here/results/results.md
 mkdir -p "$(dirname "$out")"
 out=$(cd "$(dirname "$out")" && pwd)/$(basename "$out")
+chmod +x "$here"/bin/* 2>/dev/null || true  # in case a copy dropped the modes
 manifest() { sed -n "s/^$1=//p" "$here/MANIFEST" 2>/dev/null; }
 say() { echo "$*" | tee -a "$out"; }
 
