@@ -9,6 +9,7 @@
 #ifdef ELLIPSEKIT_HAVE_SCENES
 #include "tools/scenes/crowded_scenes.h"
 #include "tools/scenes/scene_generator.h"
+#include "tools/scenes/tabletop_scenes.h"
 #endif
 
 namespace ellipsekit::cli {
@@ -16,6 +17,7 @@ namespace ellipsekit::cli {
 const char kScenesUsage[] =
     "Usage: ellipsekit scenes --out DIR [--count N] [--seed S]\n"
     "       ellipsekit scenes --crowded [--layout L] [--objects N] --out DIR [--count N] [--seed S]\n"
+    "       ellipsekit scenes --hard [--size WxH] --out DIR [--count N] [--seed S]\n"
     "       ellipsekit scenes --conveyor [--speed V] --out DIR [--seed S]\n"
     "       ellipsekit scenes --stack|--crossing [--speed V] [--frames N] --out DIR [--seed S]\n"
     "\n"
@@ -25,6 +27,10 @@ const char kScenesUsage[] =
     "With --crowded, crowded scenes instead (RenderCrowdedScene): one flat layout of 50-300 circles\n"
     "(dot or ring calibration grids, crates of can tops, trays of caps or open cups) under perspective,\n"
     "640x480 to 1920x1080; the truth lists every dot, both edges of every ring, every top's outer rim.\n"
+    "With --hard, the hard tabletop set instead (RenderTabletopScene): 2-8 cans, cups, jars, wooden\n"
+    "and cardboard cylinders among boxes that hide tops, tops cut by the frame's edge, textured\n"
+    "tables, camera tilt 30-70 degrees at 0.4-1.2 m; also DIR/meta/<stem>.txt, one 'kind visible_fraction'\n"
+    "per truth line, for 'ellipsekit eval DIR --by kind,size,visibility' (tools/scenes/tabletop_scenes.h).\n"
     "With --conveyor, writes a sequence instead: a can riding a straight guide at V m/s, 30 fps,\n"
     "3 s (90 frames), turning round at the guide's ends: DIR/frames/NNNNNN.png, DIR/depth/NNNNNN.png\n"
     "(uint16 mm along the camera z axis, 0 = invalid), timestamps.txt, camera.json, conveyor.json,\n"
@@ -43,7 +49,8 @@ const char kScenesUsage[] =
     "  --layout L        with --crowded: any (default), dots, rings, cans, caps or cups\n"
     "  --objects N       with --crowded: objects per scene, 1 <= N <= 2000 (default: drawn, 50-300)\n"
     "  --size WxH        with --crowded: frame size, 64..8192 each (default: drawn per scene from\n"
-    "                    640x480, 1280x720, 1920x1080)\n"
+    "                    640x480, 1280x720, 1920x1080); with --hard: default 640x480\n"
+    "  --hard            write the hard tabletop set (see above)\n"
     "  --conveyor        write a conveyor sequence (see above)\n"
     "  --speed V         conveyor speed in m/s, 0 < V <= 10 (default 0.05; needs --conveyor or --crossing)\n"
     "  --stack           write a static stacking sequence (see above)\n"
@@ -56,7 +63,7 @@ int RunScenes(const std::vector<std::string>& argv) {
   int count = 200;
   std::uint64_t seed = 7;
   bool conveyor = false, count_given = false;
-  bool stack = false, crossing = false, crowded = false;
+  bool stack = false, crossing = false, crowded = false, hard = false;
   std::string layout_name;
   int objects = 0;
   int width = 0, height = 0;
@@ -80,6 +87,9 @@ int RunScenes(const std::vector<std::string>& argv) {
     } else if (name == "--crowded") {
       r.NoValue();
       crowded = true;
+    } else if (name == "--hard") {
+      r.NoValue();
+      hard = true;
     } else if (name == "--layout") {
       layout_name = r.Value();
     } else if (name == "--size") {
@@ -112,10 +122,11 @@ int RunScenes(const std::vector<std::string>& argv) {
     }
   }
   if (out.empty()) throw UsageError("--out DIR is required");
-  if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) + static_cast<int>(crowded) > 1)
-    throw UsageError("--conveyor, --stack, --crossing and --crowded exclude each other");
-  if (!crowded && (!layout_name.empty() || objects > 0 || width > 0))
-    throw UsageError("--layout, --objects and --size need --crowded");
+  if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) + static_cast<int>(crowded) +
+          static_cast<int>(hard) > 1)
+    throw UsageError("--conveyor, --stack, --crossing, --crowded and --hard exclude each other");
+  if (!crowded && (!layout_name.empty() || objects > 0 || (width > 0 && !hard)))
+    throw UsageError("--layout, --objects and --size need --crowded (--size also --hard)");
   if (crossing && speed_text.empty()) speed = 0.05;
   if (!conveyor && !crossing && !speed_text.empty()) throw UsageError("--speed needs --conveyor");
   if (frames > 0 && !stack && !crossing) throw UsageError("--frames needs --stack or --crossing");
@@ -148,6 +159,21 @@ int RunScenes(const std::vector<std::string>& argv) {
     std::printf("wrote %s sequence (%d frames, %.3f m/s, radii %.4f/%.4f m, seed %llu) to %s\n",
                 crossing ? "crossing" : "stacking", info.frames, co.speed_m_s, info.radius_m[0], info.radius_m[1],
                 static_cast<unsigned long long>(seed), out.c_str());
+    return kExitOk;
+  }
+  if (hard) {
+    scenes::TabletopSceneOptions to;
+    if (width > 0) {
+      to.width = width;
+      to.height = height;
+    }
+    const Status tst = scenes::WriteTabletopDataset(out, count, seed, to);
+    if (!tst.ok()) {
+      std::fprintf(stderr, "ellipsekit scenes: %s\n", tst.message().c_str());
+      return kExitFailure;
+    }
+    std::printf("wrote %d hard tabletop scenes (%dx%d, seed %llu) to %s (images/, gt/, meta/)\n", count, to.width,
+                to.height, static_cast<unsigned long long>(seed), out.c_str());
     return kExitOk;
   }
   if (crowded) {

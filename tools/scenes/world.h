@@ -122,6 +122,10 @@ inline IRect ProjectTableRect(const Camera& cam, const TRect& t, int width, int 
 // ---------------------------------------------------------------- scene contents
 enum class CylKind { kCan, kCup, kJar };
 
+// Plain cylinders of the hard tabletop set (tabletop_scenes.h): a textured top and side in nearly
+// one colour. kNone (the default) leaves every other scene's shading untouched.
+enum class PlainMaterial { kNone, kWood, kCardboard };
+
 struct Cylinder {
   CylKind kind = CylKind::kCan;
   double x = 0, y = 0, r = 0.03, h = 0.1, r2 = 0;
@@ -146,6 +150,8 @@ struct Cylinder {
   double lid_r = 0;           // jar: a lid narrower than the body, from shoulder_h up to h
   double shoulder_h = 0;
   bool metal_top = false;     // strong specular lid (and lid floor)
+  PlainMaterial material = PlainMaterial::kNone;  // plain cylinder: texture (World::PlainTexture)
+  double grain_contrast = 0, grain_period = 0.004, pith_x = 0, pith_y = 0;
   double rim_r() const { return lid_r > 0 ? lid_r : r; }  // radius of the top rim circle
   IRect bbox;
   TRect shadow;
@@ -234,7 +240,7 @@ struct Shape {
   }
 };
 
-enum class TableKind { kWood, kMottled, kPlain };
+enum class TableKind { kWood, kMottled, kPlain, kCloth };  // kCloth: the hard tabletop set only
 
 enum Part : int { kBackground, kTable, kWall, kSide, kTop, kInner, kFloor, kBoxFace, kLidSide, kShoulder };
 
@@ -252,6 +258,8 @@ struct TexCache {
   bool table_ok = false, wall_ok = false;
   double table = 0, wall = 0;
 };
+
+class TabletopBuilder;  // tabletop_scenes.cc: the hard tabletop set, built on this world
 
 class World {
  public:
@@ -272,6 +280,7 @@ class World {
   bool TablePointAt(double u, double v, double z, V3* p) const;
   void PlaceClutter();
   bool PlaceBox();
+  bool FinishBoxBounds(Box* b) const;  // bbox (false when empty or > 20 % of the frame), shadow
   bool PlaceShape(ShapeKind kind);
   void PlaceCylinders();
   void ColorCylinder(Cylinder* c);
@@ -295,6 +304,7 @@ class World {
   double Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const;
   double ShadeAt(double u, double v) const;
   double TableTexture(double X, double Y, double footprint) const;
+  double PlainTexture(const Cylinder& c, V3 P, bool top) const;  // albedo factor; tabletop_scenes.cc
   double WallTexture(double Y, double Z) const;
   double TableLit(V3 P) const;
   double CupLit(const Cylinder& c, V3 P) const;
@@ -324,6 +334,8 @@ class World {
   std::vector<Box> box_;
   std::vector<Shape> shape_;
   bool no_boxes_ = false;  // conveyor worlds: flat clutter only
+
+  friend class TabletopBuilder;
 };
 
 }  // namespace ellipsekit::scenes::detail

@@ -231,6 +231,17 @@ double World::TableTexture(double X, double Y, double fp) const {
       t = noise_contrast_ * (Noise(X * 5 + 123.4, Y * 5 + 43.2) - 0.5) +
           speck_ * 0.5 * (Noise(X * 200 + 1.1, Y * 200 + 8.8) - 0.5) * Keep(fp, 1.0 / 200);
       break;
+    case TableKind::kCloth: {  // a woven cloth: fine threads, soft plaid bands, folds
+      const double along = X * grain_c_ + Y * grain_s_, across = -X * grain_s_ + Y * grain_c_;
+      const double pitch = 0.05 * grain_period_ + 0.001;  // threads 1.4-2.5 mm apart
+      const double weave = std::sin(2 * kPi * along / pitch) * std::sin(2 * kPi * across / pitch);
+      const double band_period = 6 * grain_period_;
+      const double band = Clamp(2.5 * std::sin(2 * kPi * along / band_period), -1.0, 1.0) +
+                          Clamp(2.5 * std::sin(2 * kPi * across / band_period), -1.0, 1.0);
+      t = noise_contrast_ * weave * Keep(fp, pitch) + 0.5 * grain_contrast_ * band * Keep(fp, band_period / 4) +
+          0.15 * (Noise(X * 4 + 31.3, Y * 4 + 77.7) - 0.5);
+      break;
+    }
   }
   const double illum = 1 + illum_var_ * (Noise(X * 0.8 + 200.5, Y * 0.8 + 100.5) - 0.5);
   return table_base_ * (1 + t) * illum;
@@ -344,6 +355,7 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
           albedo = c.print_albedo;
       }
       if (c.has_neck && P.z > c.h - c.neck_width) albedo = c.neck_albedo;
+      if (c.material != PlainMaterial::kNone) albedo *= PlainTexture(c, P, false);
       const double ao = 1 - 0.35 * std::max(0.0, 1 - P.z / 0.012);
       lit = ambient_ * ao + diffuse_ * std::max(0.0, Dot(n, light_));
       if (c.spec > 0) {
@@ -362,6 +374,7 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
         else if (c.kind == CylKind::kCan && c.recess == 0 && rho > c.r - c.rim_width - 0.002)
           albedo = c.top_albedo * 0.8;  // the lid's countersink groove
       }
+      if (c.material != PlainMaterial::kNone) albedo *= PlainTexture(c, P, true);
       albedo = std::min(albedo * c.top_scale, 1.0);
       lit = ambient_ + diffuse_ * light_.z;
       if (c.recess > 0) {  // the rolled rim: a bead whose normal turns from inward to outward

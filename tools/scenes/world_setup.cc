@@ -99,27 +99,32 @@ bool World::PlaceBox() {
     if (has_wall_ && b.x + b.bound_r > wall_x_ - 0.01) continue;
     bool clash = false;
     for (const Box& o : box_) clash |= std::hypot(o.x - b.x, o.y - b.y) < o.bound_r + b.bound_r + 0.01;
-    if (clash) continue;
-    V3 corners[8];
-    for (int k = 0; k < 8; ++k) {
-      const double lx = (k & 1) ? b.hx : -b.hx, ly = (k & 2) ? b.hy : -b.hy;
-      corners[k] = {b.x + lx * b.c - ly * b.s, b.y + lx * b.s + ly * b.c, (k & 4) ? b.hz : 0.0};
-    }
-    b.bbox = ProjectBounds(cam_, corners, 8, W_, H_);
-    const double area = double(b.bbox.x1 - b.bbox.x0 + 1) * (b.bbox.y1 - b.bbox.y0 + 1);
-    if (b.bbox.x1 < b.bbox.x0 || b.bbox.y1 < b.bbox.y0 || area > 0.2 * W_ * H_) continue;
-    // Shadow region: footprint and the footprint moved by the top's shadow offset.
-    const double ox = -b.hz * light_.x / light_.z, oy = -b.hz * light_.y / light_.z;
-    for (int k = 0; k < 4; ++k) {
-      b.shadow.Add(corners[k].x, corners[k].y);
-      b.shadow.Add(corners[k].x + ox, corners[k].y + oy);
-    }
-    b.shadow.Grow(0.02);
-    b.shadow_bbox = ProjectTableRect(cam_, b.shadow, W_, H_);
+    if (clash || !FinishBoxBounds(&b)) continue;
     box_.push_back(b);
     return true;
   }
   return false;
+}
+
+bool World::FinishBoxBounds(Box* b) const {
+  V3 corners[8];
+  for (int k = 0; k < 8; ++k) {
+    const double lx = (k & 1) ? b->hx : -b->hx, ly = (k & 2) ? b->hy : -b->hy;
+    corners[k] = {b->x + lx * b->c - ly * b->s, b->y + lx * b->s + ly * b->c, (k & 4) ? b->hz : 0.0};
+  }
+  b->bbox = ProjectBounds(cam_, corners, 8, W_, H_);
+  const double area = double(b->bbox.x1 - b->bbox.x0 + 1) * (b->bbox.y1 - b->bbox.y0 + 1);
+  if (b->bbox.x1 < b->bbox.x0 || b->bbox.y1 < b->bbox.y0 || area > 0.2 * W_ * H_) return false;
+  // Shadow region: footprint and the footprint moved by the top's shadow offset.
+  const double ox = -b->hz * light_.x / light_.z, oy = -b->hz * light_.y / light_.z;
+  b->shadow = TRect();
+  for (int k = 0; k < 4; ++k) {
+    b->shadow.Add(corners[k].x, corners[k].y);
+    b->shadow.Add(corners[k].x + ox, corners[k].y + oy);
+  }
+  b->shadow.Grow(0.02);
+  b->shadow_bbox = ProjectTableRect(cam_, b->shadow, W_, H_);
+  return true;
 }
 
 bool World::PlaceShape(ShapeKind kind) {
