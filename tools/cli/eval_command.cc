@@ -20,6 +20,7 @@
 #include "tools/cli/image_io.h"
 #include "tools/cli/json.h"
 #include "tools/cli/timing.h"
+#include "tools/eval/breakdown.h"
 #include "tools/eval/dataset.h"
 #include "tools/eval/ellipse_io.h"
 #include "tools/eval/metrics.h"
@@ -49,6 +50,9 @@ const char kEvalUsage[] =
     "                    its points to FILE.csv, print the average precision (tools/eval/pr_curve.h)\n"
     "  --draw DIR        write DIR/<image stem>.png: the (scaled) image with the truth in red, correct\n"
     "                    detections in green, false ones in yellow\n"
+    "  --by LIST         also print recall per group: kind, size (semi-minor < 15, 15-30, >= 30 px),\n"
+    "                    visibility (< 60 %, >= 60 % of the rim), a comma-separated list or 'all';\n"
+    "                    kind and visibility read DIR/meta/<stem>.txt (tools/eval/breakdown.h)\n"
     "  --json FILE       also write everything as JSON to FILE\n"
     "  -h, --help        this text\n"
     "A progress bar goes to stderr when stdout is a terminal.\n";
@@ -63,6 +67,7 @@ struct EvalArgs {
   std::string json_path;
   std::string draw_dir;
   std::string curve_path;
+  std::vector<eval::GroupBy> by;  // --by
 };
 
 struct ImageScore {
@@ -95,6 +100,9 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
       if (a.draw_dir.empty()) throw UsageError("--draw needs a directory");
     } else if (name == "--scale") {
       a.scale = ParseDoubleValue(name, r.Value(), 0.1, 8);
+    } else if (name == "--by") {
+      const std::string v = r.Value();
+      if (!eval::ParseGroupBy(v, &a.by)) throw UsageError("--by: bad value '" + v + "' (kind, size, visibility, all)");
     } else if (name == "--per-image") {
       r.NoValue();
       a.per_image = true;
@@ -195,6 +203,7 @@ int RunEval(const std::vector<std::string>& argv) {
   std::vector<ImageScore> scores;
   std::vector<eval::ScoredDetection> scored;  // --curve
   eval::MatchCounts total;
+  eval::RecallBreakdown breakdown(args.by);  // --by
   DetectionResult result;
   for (std::size_t i = 0; i < dataset.images.size(); ++i) {
     Progress(progress, i, dataset.images.size());
@@ -225,7 +234,8 @@ int RunEval(const std::vector<std::string>& argv) {
             if (d < match.detection_ignored.size() && match.detection_ignored[d]) continue;
             scored.push_back({result.ellipses[d].score, match.truth_of_detection[d] >= 0});
           }
-          if (!args.draw_dir.empty()) st = DrawMatches(args.draw_dir, item.stem, image.gray, truth, result.ellipses, match);
+          if (!args.by.empty()) st = breakdown.AddImage(args.dataset, item.stem, truth, match);
+          if (st.ok() && !args.draw_dir.empty()) st = DrawMatches(args.draw_dir, item.stem, image.gray, truth, result.ellipses, match);
           total += match.counts;
           ran = result.backend;
         } else {
@@ -268,6 +278,7 @@ int RunEval(const std::vector<std::string>& argv) {
   std::printf("recall: %.4f\n", recall);
   std::printf("F-measure: %.4f\n", f);
   std::printf("median detect ms: %.3f\n", median_ms);
+  if (!args.by.empty()) std::fputs(breakdown.Format().c_str(), stdout);
   if (!args.curve_path.empty()) {
     const eval::PrCurve curve = eval::ComputePrCurve(scored, total.truth);
     std::printf("average precision: %.4f\n", curve.average_precision);
