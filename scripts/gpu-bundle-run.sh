@@ -161,6 +161,30 @@ if [[ $conform_only == 0 ]]; then
   device=$(sed -n 's/^ *"label": "\(.*\)",\{0,1\}$/\1/p' "$json" 2>/dev/null | sort | uniq -c | sort -rn | head -1 | sed 's/^ *[0-9]* //')
   say ""
   say "Vulkan device (benchmark label): ${device:-not found}"
+  say ""
+  say "Ratios (real time; medians where there are repetitions; detect: summed over each set's images):"
+  say ""
+  # name time unit ... -> ms per name (the _median row if any), then the ratios.
+  awk '/^(edge_stage|arc_stage|detect)\// && $3 ~ /^(ns|us|ms|s)$/ {
+         name = $1; sub(/\/real_time/, "", name); med = sub(/_median$/, "", name)
+         if (name ~ /_(mean|stddev|cv)$/) next
+         f = ($3 == "ns") ? 1e-6 : ($3 == "us") ? 1e-3 : ($3 == "s") ? 1e3 : 1
+         if (med || !(name in ms)) ms[name] = $2 * f
+       }
+       END {
+         print "| what | Vulkan ms | baseline ms | Vulkan / baseline |"; print "|---|---|---|---|"
+         n = split("64x48 640x480 1280x720 1920x1080", sz, " ")
+         for (i = 1; i <= n; i++) if (("edge_stage/vulkan/" sz[i]) in ms && ("edge_stage/simd/" sz[i]) in ms)
+           printf "| edge_stage %s (baseline SIMD) | %.3f | %.3f | %.2f |\n", sz[i], ms["edge_stage/vulkan/" sz[i]], ms["edge_stage/simd/" sz[i]], ms["edge_stage/vulkan/" sz[i]] / ms["edge_stage/simd/" sz[i]]
+         split("scene prasad", in_, " ")
+         for (i = 1; i <= 2; i++) if (("arc_stage/vulkan/" in_[i]) in ms && ("arc_stage/scalar/" in_[i]) in ms)
+           printf "| arc_stage %s (baseline scalar) | %.3f | %.3f | %.2f |\n", in_[i], ms["arc_stage/vulkan/" in_[i]], ms["arc_stage/scalar/" in_[i]], ms["arc_stage/vulkan/" in_[i]] / ms["arc_stage/scalar/" in_[i]]
+         for (k in ms) if (k ~ /^detect\/vulkan\//) { s = k; sub(/^detect\/vulkan\//, "", s); set = s; sub(/\/.*/, "", set)
+           if (("detect/simd/" s) in ms) { v[set] += ms[k]; c[set] += ms["detect/simd/" s]; cnt[set]++ } }
+         split("prasad photos scenes scenes200", sets, " ")
+         for (i = 1; i <= 4; i++) if (cnt[sets[i]])
+           printf "| detect %s, %d rows (baseline SIMD) | %.3f | %.3f | %.2f |\n", sets[i], cnt[sets[i]], v[sets[i]], c[sets[i]], v[sets[i]] / c[sets[i]]
+       }' "$out" | tee -a "$out"
 fi
 say ""
 say "run.sh: done, exit status $status; results in $out"

@@ -12,7 +12,8 @@
 #      bundle's loader/ and still report 0 differing
 #   4. LD_DEBUG=libs: every library the programs load whose name is a bundled one came from the bundle
 # Where a mount namespace cannot be made (not root), steps 2-3 run without hiding and say so;
-# step 4 is then the evidence. Exit 77 (skipped) when lavapipe is not installed.
+# step 4 is then the evidence (GPU_BUNDLE_TEST_NO_HIDING=1 forces that). Exit 77 (skipped) when
+# lavapipe is not installed.
 # usage: gpu_bundle_test.sh REPO BUILD_DIR
 set -euo pipefail
 repo=$1 build=$2
@@ -45,7 +46,7 @@ done
 mapfile -t hide < <(printf '%s\n' "${hide[@]}" | sort -u)
 loader=$(readlink -f "$(ldconfig -p | awk '$1 == "libvulkan.so.1" && /x86-64/ && !f {print $NF; f = 1}')")
 printf '%s\n' "${hide[@]}" | grep -q 'libopencv_core' || fail "no system OpenCV found to hide (is this the build machine?)"
-echo "gpu_bundle_test: hiding ${#hide[@]} system libraries; left visible for the shell tools: ${kept_visible[*]:-none}"
+echo "gpu_bundle_test: system copies of bundled libraries to hide: ${#hide[@]}; left visible for the shell tools: ${kept_visible[*]:-none}"
 : >"$work/empty"
 
 hidden_run() {  # hidden_run EXTRA_FILE_TO_HIDE run.sh-args...
@@ -60,12 +61,13 @@ hidden_run() {  # hidden_run EXTRA_FILE_TO_HIDE run.sh-args...
 }
 
 rc=0
-if unshare -m true 2>/dev/null; then
+: >"$work/empty2"
+if [[ -z "${GPU_BUNDLE_TEST_NO_HIDING:-}" ]] && unshare -m mount --bind "$work/empty" "$work/empty2" 2>/dev/null; then
   hidden=1
   hidden_run "" --quick --out "$work/results/results.md" || rc=$?
 else
   hidden=0
-  echo "gpu_bundle_test: NOTE: cannot make a mount namespace here (not root?): running without hiding the system's libraries; step 4 (LD_DEBUG) is the evidence"
+  echo "gpu_bundle_test: NOTE: cannot bind-mount in a mount namespace here (not root?): running without hiding the system's libraries; step 4 (LD_DEBUG) is the evidence"
   "$bundle/run.sh" --quick --out "$work/results/results.md" || rc=$?
 fi
 results=$work/results/results.md
