@@ -135,4 +135,4 @@ glibc_needed=$(for f in "$out"/bin/* "$out"/lib/*.so* "$out"/lib/compat/*.so*; d
 } >"$out/MANIFEST"
 cp "$repo/scripts/gpu-bundle-run.sh" "$out/run.sh"
 chmod +x "$out/run.sh"
-echo "gpu-bundle.sh: $out: $(du -sh "$out" | cut -f1), $(ls "$out/lib" "$out/lib/compat" | grep -c '\.so') libraries, needs glibc >= ${glibc_needed:-?}; run: $out/run.sh"
+echo "gpu-bundle.sh: $out: $(du -sh "$out" | cut -f1), $(find "$out/lib" -type f -name '*.so*' | wc -l) libraries, needs glibc >= ${glibc_needed:-?}; run: $out/run.sh"
