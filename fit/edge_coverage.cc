@@ -126,6 +126,16 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share, c
   return static_cast<double>(covered) / kSectors;
 }
 
+double InFrameShare(const EdgeMapView& in, const Ellipse& e) {
+  const Outline outline(e);
+  int inside = 0;
+  for (int sector = 0; sector < kSectors; ++sector) {
+    const Outline::Sample p = outline.At(sector * kSamplesPerSector + kSamplesPerSector / 2);
+    inside += p.px >= 0 && p.px <= in.width - 1 && p.py >= 0 && p.py <= in.height - 1;
+  }
+  return static_cast<double>(inside) / kSectors;
+}
+
 void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims) {
   const Outline outline(e);
   // Samples about kClaimRadius px apart are enough for the 5x5 neighbourhoods to overlap.

@@ -38,6 +38,9 @@ struct EdgeClaims {
 double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share = 0,
                     const EdgeClaims* exclude = nullptr);
 
+// In [0, 1]: the share of EdgeCoverage's 64 sectors whose middle sample lies inside the frame.
+double InFrameShare(const EdgeMapView& in, const Ellipse& e);
+
 // Claims every edge pixel within 2 px (5x5) of the 256 sample points whose gradient lies along
 // the normal there: wider than EdgeCoverage's 3x3, so an ellipse a pixel off the claimed one finds
 // no support of its own on the same edge. Work: 256 x 25 pixels.

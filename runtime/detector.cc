@@ -74,6 +74,8 @@ Status ValidateOptions(const Options& o) {
   if (!Finite(o.cluster_outer_margin)) return Invalid("cluster_outer_margin must be a finite number");
   if (!Finite(o.min_edge_coverage) || o.min_edge_coverage < 0 || o.min_edge_coverage > 1)
     return Invalid("min_edge_coverage must be in [0, 1]");
+  if (!Finite(o.frame_cut_min_inside) || o.frame_cut_min_inside < 0 || o.frame_cut_min_inside > 1)
+    return Invalid("frame_cut_min_inside must be in [0, 1] (1: off)");
   if (!Finite(o.min_exclusive_coverage) || o.min_exclusive_coverage < 0 || o.min_exclusive_coverage > 1)
     return Invalid("min_exclusive_coverage must be in [0, 1]");
   if (!Finite(o.pair_min_edge_coverage) || o.pair_min_edge_coverage < 0 || o.pair_min_edge_coverage > 1)
@@ -130,8 +132,18 @@ class CoverageCheck final : public CandidateCheck {
  public:
   CoverageCheck(const EdgeMapView& view, const Options& options) : view_(view), options_(options) {}
   bool Passes(const Candidate& c) const override {
-    const double min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
-    return min_share <= 0 || EdgeCoverage(view_, c.ellipse, min_share) >= min_share;
+    double min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
+    if (min_share <= 0) return true;
+    // Options::frame_cut_min_inside: an outline that runs out of the frame is held to the share
+    // over its part inside.
+    if (options_.frame_cut_min_inside < 1) {
+      const double inside = InFrameShare(view_, c.ellipse);
+      if (inside < 1) {
+        if (inside < options_.frame_cut_min_inside) return false;
+        min_share *= inside;
+      }
+    }
+    return EdgeCoverage(view_, c.ellipse, min_share) >= min_share;
   }
   double FitShare(const Candidate& c, double to_beat) const override {
     return FineEdgeCoverage(view_, c.ellipse, to_beat);

@@ -60,6 +60,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"cluster_outer_margin", &Options::cluster_outer_margin},
       {"rim_min_coverage", &Options::rim_min_coverage},
       {"min_edge_coverage", &Options::min_edge_coverage},
+      {"frame_cut_min_inside", &Options::frame_cut_min_inside},
       {"min_exclusive_coverage", &Options::min_exclusive_coverage},
       {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
       {"pair_reach", &Options::pair_reach},
