@@ -87,8 +87,10 @@ def test_bad_values_name_the_option_and_range(kwargs, message):
 
 def test_options_reach_the_detector(gray):
     default = ellipsekit.Detector().detect(gray)
-    capped = ellipsekit.Detector(max_triplets=1, max_pairs=1).detect(gray)
-    assert "max_triplets" in capped.caps_hit or "max_pairs" in capped.caps_hit
+    noise = np.random.default_rng(5).integers(0, 256, (240, 320), dtype=np.uint8)
+    capped = ellipsekit.Detector(max_arcs=1).detect(noise)
+    assert "max_arcs" in capped.caps_hit and capped.counts["arcs"] <= 1
+    assert "max_arcs" not in ellipsekit.Detector().detect(noise).caps_hit
     assert default.caps_hit == []
     # numpy scalars and bools are accepted like Python's
     same = ellipsekit.Detector(max_triplets=np.int64(6000), refine_fit=np.bool_(True),
