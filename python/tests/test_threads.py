@@ -3,8 +3,8 @@ finish a batch of frames faster than one.
 
 The speed-up test runs on a shared 2-core machine (other builds may run beside it), so it asks
 for 1.3x (two idle cores give about 1.9x) and takes the best of up to five attempts of
-2 x 24 frames of 640x480 each; when it falls short while the 1-minute load average shows more than
-1.5 cores' worth of other work, it is skipped with the figures instead of failing.
+2 x 240 frames of 640x480 each; when it falls short while the 1-minute load average shows other
+work leaving fewer than two cores free, it is skipped with the figures instead of failing.
 """
 import os
 import threading
@@ -57,7 +57,7 @@ def test_python_runs_while_a_frame_is_detected():
 
 
 def test_two_detectors_in_two_threads_scale(frames):
-    work = frames * 6  # 24 frames per thread
+    work = frames * 60  # 240 frames per thread: ~0.2 s each (thread start-up and noise stay small)
 
     def run(detector, out):
         for f in work:
@@ -88,10 +88,10 @@ def test_two_detectors_in_two_threads_scale(frames):
     if os.cpu_count() < 2:
         pytest.skip("one core: no parallel speed-up possible")
     load = os.getloadavg()[0]
-    if max(ratios) < 1.3 and load > os.cpu_count() + 1.5:
-        # This test's own two threads count about 2 in the load: more than 1.5 beyond the cores is
-        # other work holding them, and no speed-up can be measured. (The GIL itself is checked by
-        # test_python_runs_while_a_frame_is_detected, which does not depend on the load.)
+    if max(ratios) < 1.3 and load > os.cpu_count() - 1:
+        # The 1-minute load average is other work (this test runs for about a second): when it
+        # leaves less than two cores free, no speed-up can be measured. (That the GIL is released
+        # is checked by test_python_runs_while_a_frame_is_detected, whatever the load.)
         pytest.skip(f"machine busy (load average {load:.1f} on {os.cpu_count()} cores); speed-ups {ratios}")
     assert max(ratios) >= 1.3, f"two threads / one thread speed-ups: {ratios} (load average {load:.1f})"
 
