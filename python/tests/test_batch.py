@@ -168,3 +168,16 @@ def test_a_killed_worker_costs_nothing(reference, scenes200, tmp_path):
         assert rec["status"] == "ok" and rec["backend"] == "scalar"
         assert rec["ellipses"] == ref[path]["ellipses"], path
     assert "images: 200\n" in stdout
+
+
+def test_inputs_files_folders_and_globs(tmp_path):
+    from ellipsekit.batch import iter_inputs
+    (tmp_path / "a" / "b").mkdir(parents=True)
+    for name in ("a/2.png", "a/1.JPG", "a/b/3.bmp", "a/notes.txt", "c.jpeg"):
+        (tmp_path / name).write_bytes(b"x")
+    t = str(tmp_path)
+    assert list(iter_inputs([f"{t}/a"])) == [f"{t}/a/1.JPG", f"{t}/a/2.png", f"{t}/a/b/3.bmp"]
+    assert list(iter_inputs([f"{t}/**/*.png", f"{t}/c.jpeg", f"{t}/a/2.png"])) == [f"{t}/a/2.png", f"{t}/c.jpeg"]
+    assert list(iter_inputs([f"{t}/a/notes.txt", f"{t}/none.png"])) == [f"{t}/a/notes.txt", f"{t}/none.png"]
+    warned = []
+    assert list(iter_inputs([f"{t}/*.tif"], warn=warned.append)) == [] and warned == [f"{t}/*.tif: matches nothing"]
