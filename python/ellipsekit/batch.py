@@ -117,7 +117,9 @@ def _parse_args(argv):
     p.add_argument("--out", required=True, metavar="FILE", help="output JSON lines file")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="LocalCluster of N worker processes (default: the cores, %d here)" % (os.cpu_count() or 1))
-    p.add_argument("--threads", type=int, default=1, metavar="T", help="threads per local worker process (default 1)")
+    p.add_argument("--threads", type=int, default=1, metavar="T", help="threads per local worker process (default 1; more threads share one "
+                        "decoder at a time, since the CLI's loader redirects fd 2 while it decodes, so "
+                        "prefer processes)")
     p.add_argument("--scheduler", metavar="ADDR", help="use the Dask cluster at ADDR (tcp://HOST:PORT) instead")
     p.add_argument("--chunk", type=int, default=None, metavar="K",
                    help="images per task (default: total / (8 x threads), between 16 and 64)")
