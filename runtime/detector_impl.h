@@ -74,7 +74,7 @@ struct Detector::Impl {
   // The first frame of a size sizes the buffers (detector.cc).
   void Resize(int w, int h);
 
-  // One frame: the pixel stage (edges, curves, arcs), then the back end (grouping to the final
+  // One frame: the pixel stage (edges, curves), then the back end (arcs, grouping to the final
   // ellipses). runtime/stream.cc runs the two on different threads, for different frames, each
   // frame on an Impl of its own; the back end reads what the pixel stage left in this Impl.
   Status Detect(const ImageView& input, DetectionResult* result) {
@@ -83,8 +83,10 @@ struct Detector::Impl {
   }
   Status PixelStage(const ImageView& input);  // detector_pyramid.cc: the level, then PixelStageAt
   Status BackEnd(DetectionResult* result);    // detector_pyramid.cc: BackEndAt, coarse levels
-  Status PixelStageAt(const ImageView& image);  // detector.cc: one level's edges, curves, arcs
-  void BackEndAt(DetectionResult* result);      // detector.cc: one level's back end
+  // detector.cc, one level: edges and curves (and arcs when they run on the device), then the
+  // (CPU) arcs and the back end.
+  Status PixelStageAt(const ImageView& image);
+  void BackEndAt(DetectionResult* result);
   int PyramidLevel(const ImageView& input) const;
   ImageView Reduce(const ImageView& input, int level);
 
@@ -94,6 +96,7 @@ struct Detector::Impl {
     int level = 0;
     Backend ran = Backend::kScalar, arcs_ran = Backend::kScalar;
     bool arcs_capped = false;
+    bool arcs_done = false;  // the arc stage ran on the device; else the back end runs it
     int edge_pixels = 0;
     double total_ms = 0, edges_ms = 0, curves_ms = 0, arcs_ms = 0;
   } front;
