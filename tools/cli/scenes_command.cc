@@ -56,6 +56,10 @@ const char kScenesUsage[] =
     "  --stack           write a static stacking sequence (see above)\n"
     "  --crossing        write a sequence of two cans crossing (see above)\n"
     "  --frames N        frames of a --stack or --crossing sequence, 1 <= N <= 100000\n"
+    "  --container K     with --conveyor, --stack or --crossing: what stands there, flat-can (default),\n"
+    "                    recessed-can (rolled rim, lid 3-6 mm down), cup, filled-cup or jar; truth.jsonl\n"
+    "                    then gives each top's rim circle (tools/scenes/scene_generator.h Container)\n"
+    "  --metal-top       with --container: a specular metal lid\n"
     "  -h, --help        this text\n";
 
 int RunScenes(const std::vector<std::string>& argv) {
@@ -70,6 +74,8 @@ int RunScenes(const std::vector<std::string>& argv) {
   int frames = 0;  // 0: the default of the sequence kind
   double speed = 0.05;
   std::string speed_text;
+  std::string container_name;
+  bool metal_top = false;
   ArgReader r(argv);
   while (r.Next()) {
     if (!r.IsFlag()) throw UsageError("unexpected argument '" + r.positional() + "'");
@@ -109,6 +115,11 @@ int RunScenes(const std::vector<std::string>& argv) {
     } else if (name == "--crossing") {
       r.NoValue();
       crossing = true;
+    } else if (name == "--container") {
+      container_name = r.Value();
+    } else if (name == "--metal-top") {
+      r.NoValue();
+      metal_top = true;
     } else if (name == "--frames") {
       frames = ParseIntValue(name, r.Value(), 1, 100000);
     } else if (name == "--speed") {
@@ -132,10 +143,19 @@ int RunScenes(const std::vector<std::string>& argv) {
   if (frames > 0 && !stack && !crossing) throw UsageError("--frames needs --stack or --crossing");
   if ((stack || crossing) && count_given) throw UsageError("--count does not apply to --stack or --crossing");
   if (conveyor && count_given) throw UsageError("--count does not apply to --conveyor");
+  if ((!container_name.empty() || metal_top) && !conveyor && !stack && !crossing)
+    throw UsageError("--container and --metal-top need --conveyor, --stack or --crossing");
+  if (metal_top && container_name.empty()) throw UsageError("--metal-top needs --container");
 #ifdef ELLIPSEKIT_HAVE_SCENES
+  scenes::Container container = scenes::Container::kFlatCan;
+  if (!container_name.empty() && !scenes::ParseContainer(container_name, &container))
+    throw UsageError("--container: unknown container '" + container_name +
+                     "' (flat-can, recessed-can, cup, filled-cup, jar)");
   if (conveyor) {
     scenes::ConveyorSceneOptions co;
     co.speed_m_s = speed;
+    co.container = container;
+    co.metal_top = metal_top;
     scenes::ConveyorSequence info;
     const Status cst = scenes::WriteConveyorSequence(out, seed, co, &info);
     if (!cst.ok()) {
@@ -149,6 +169,8 @@ int RunScenes(const std::vector<std::string>& argv) {
   if (stack || crossing) {
     scenes::CanSceneOptions co;
     co.speed_m_s = crossing ? speed : 0;
+    co.containers = {container, container};
+    co.metal_top = metal_top;
     co.frames = frames > 0 ? frames : (crossing ? 30 : 20);
     scenes::CanSequence info;
     const Status cst = scenes::WriteCanSequence(out, seed, co, &info);
