@@ -21,13 +21,6 @@ namespace ellipsekit {
 
 namespace {
 
-// The bounding box of e, grown by `margin` px on every side.
-Box BoundingBox(const Ellipse& e, double margin) {
-  const double c = std::cos(e.theta), s = std::sin(e.theta);
-  const double hx = std::sqrt(e.a * e.a * c * c + e.b * e.b * s * s) + margin;
-  const double hy = std::sqrt(e.a * e.a * s * s + e.b * e.b * c * c) + margin;
-  return {e.cx - hx, e.cy - hy, e.cx + hx, e.cy + hy};
-}
 
 using Clock = std::chrono::steady_clock;
 
@@ -200,6 +193,7 @@ void Detector::Impl::Resize(int w, int h) {
   by_coverage.reserve(ReserveFor(options.max_candidates));
   boxes.reserve(ReserveFor(options.max_candidates));
   dropped.reserve(ReserveFor(options.max_candidates));
+  claimed_near.reserve(2 * ReserveFor(options.max_candidates));
   groups.Reserve(w, h, options);
 }
 

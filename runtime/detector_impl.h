@@ -4,6 +4,7 @@
 // two threads. Private to the library.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -35,6 +36,14 @@ struct Box {
   double x0, y0, x1, y1;
   bool Intersects(const Box& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
 };
+
+// The bounding box of e, grown by `margin` px on every side.
+inline Box BoundingBox(const Ellipse& e, double margin) {
+  const double c = std::cos(e.theta), s = std::sin(e.theta);
+  const double hx = std::sqrt(e.a * e.a * c * c + e.b * e.b * s * s) + margin;
+  const double hy = std::sqrt(e.a * e.a * s * s + e.b * e.b * c * c) + margin;
+  return {e.cx - hx, e.cy - hy, e.cx + hx, e.cy + hy};
+}
 
 struct Detector::Impl {
   Options options;
@@ -70,6 +79,7 @@ struct Detector::Impl {
   std::vector<std::pair<double, int>> by_coverage;
   std::vector<Box> boxes;
   std::vector<std::uint8_t> dropped;
+  std::vector<std::uint8_t> claimed_near;  // coarse levels: which kept ellipses claimed their edges
 
   // The first frame of a size sizes the buffers (detector.cc).
   void Resize(int w, int h);

@@ -81,7 +81,7 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
   BackEndAt(r);
   const int level = front.level;
   ImageView image = front.image;
-  bool claimed = false;  // the ellipses found so far have claimed their edges on this level
+  claimed_near.clear();
   // Options::coarse_levels: the next levels too, each by a Detector of its own (its buffers keep
   // their size), their ellipses added unless one of the finer levels already holds them.
   const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels;
@@ -105,15 +105,23 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
     // along min_edge_coverage of its outline: the finer levels' checks (exclusive support, outer
     // rims) never saw it, and a coarse ellipse through a top and the side below it shares the top's
     // edges. Measured in docs/resolution.md.
-    if (!claimed) {
-      for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
-      claimed = true;
-    }
+    // Only the ellipses near a new one claim their edges (each once): claims farther away than
+    // kClaimReach cannot touch its coverage.
+    constexpr double kClaimReach = 3;  // px: EdgeCoverage's 1 px neighbourhood + ClaimEdges' 2 px
+    claimed_near.resize(r->ellipses.size(), 0);
     for (const Ellipse& e : coarse_result.ellipses) {
       bool known = false;
       for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) known = Overlapping(r->ellipses[i], e);
-      if (known || EdgeCoverage(EdgeView(), e, options.min_edge_coverage, &claims) < options.min_edge_coverage) continue;
+      if (known) continue;
+      const Box reach = BoundingBox(e, kClaimReach);
+      for (std::size_t i = 0; i < r->ellipses.size(); ++i) {
+        if (claimed_near[i] || !reach.Intersects(BoundingBox(r->ellipses[i], kClaimReach))) continue;
+        ClaimEdges(EdgeView(), r->ellipses[i], &claims);
+        claimed_near[i] = 1;
+      }
+      if (EdgeCoverage(EdgeView(), e, options.min_edge_coverage, &claims) < options.min_edge_coverage) continue;
       r->ellipses.push_back(e);
+      claimed_near.push_back(1);
       ClaimEdges(EdgeView(), e, &claims);
     }
   }
