@@ -10,8 +10,9 @@
 namespace ellipsekit {
 
 struct Arc {
-  Eigen::Vector2d p0, p1, mid;  // end points and middle point, px
-  Eigen::Vector2d n0, n1;       // unit gradient (edge normal) at the two ends
+  // Zero until set (Eigen leaves a default-constructed vector uninitialized).
+  Eigen::Vector2d p0 = Eigen::Vector2d::Zero(), p1 = Eigen::Vector2d::Zero(), mid = Eigen::Vector2d::Zero();  // end points and middle point, px
+  Eigen::Vector2d n0 = Eigen::Vector2d::Zero(), n1 = Eigen::Vector2d::Zero();  // unit gradient (edge normal) at the two ends
   double width = 0, height = 0; // axis-aligned bounding box extents m_i, n_i (eq. 13), px
   int min_x = 0, min_y = 0, max_x = 0, max_y = 0;
   int quadrant = 0;             // Quadrant
