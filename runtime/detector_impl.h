@@ -60,7 +60,6 @@ struct Detector::Impl {
   std::vector<std::uint8_t> blurred, nms, edge_map;
   std::vector<std::uint8_t> pyramid[kMaxPyramidLevel];  // level l + 1 of the input (Options::pyramid_level)
   std::unique_ptr<Impl> coarse[kMaxPyramidLevel];       // Options::coarse_levels
-  std::vector<std::uint8_t> coarse_pixels[kMaxPyramidLevel];
   DetectionResult coarse_result;
   std::vector<std::int16_t> dx, dy;
   std::vector<std::uint16_t> mag;

@@ -90,15 +90,12 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
       coarse[c] = std::make_unique<Impl>();
       coarse[c]->options = options;
       coarse[c]->kernels = kernels;
-      coarse[c]->options.pyramid_level = 0;  // it is handed its level
+      coarse[c]->options.pyramid_level = 1;  // it reduces the level above it once (Reduce)
       coarse[c]->options.coarse_levels = 0;
     }
-    const std::size_t n = static_cast<std::size_t>(image.width / 2) * (image.height / 2);
-    if (coarse_pixels[c].size() < n) coarse_pixels[c].resize(n);
-    scalar::PyramidDown(image.data, image.stride, image.width, image.height, coarse_pixels[c].data(), image.width / 2);
-    image = {coarse_pixels[c].data(), image.width / 2, image.height / 2, image.width / 2};
     const Status st = coarse[c]->PixelStage(image);
     if (!st.ok()) return st;
+    image = coarse[c]->front.image;
     coarse[c]->BackEndAt(&coarse_result);
     ScaleUp(level + c + 1, level, &coarse_result.ellipses);
     // Added only when level `level`'s edges, less those of the ellipses found so far, back it
