@@ -8,39 +8,26 @@
 #include <fstream>
 #include <sstream>
 
+#include "tools/eval/text_lines.h"
+
 namespace ellipsekit::eval {
-namespace {
-
-Status Error(const std::string& name, int line, const std::string& what) {
-  return Status(StatusCode::kInvalidArgument, name + ":" + std::to_string(line) + ": " + what);
-}
-
-}  // namespace
 
 Status ParseTruthMeta(std::string_view text, const std::string& name, std::vector<TruthMeta>* out) {
   out->clear();
-  int line_number = 0;
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string line(text.substr(pos, end - pos));
-    pos = end + 1;
-    ++line_number;
-    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+  return ForEachTextLine(text, [&](int line_number, const std::string& line) {
     std::istringstream in(line);
     std::vector<std::string> tokens;
     for (std::string t; in >> t;) tokens.push_back(t);
-    if (tokens.empty()) continue;
+    if (tokens.empty()) return Status::Ok();
     if (tokens.size() != 2)
-      return Error(name, line_number, "expected 2 values (kind visible_fraction), got " + std::to_string(tokens.size()));
+      return LineError(name, line_number, "expected 2 values (kind visible_fraction), got " + std::to_string(tokens.size()));
     char* next = nullptr;
     const double v = std::strtod(tokens[1].c_str(), &next);
     if (next == tokens[1].c_str() || *next != '\0' || !(v >= 0 && v <= 1))
-      return Error(name, line_number, "visible fraction must be a number in [0, 1], got '" + tokens[1] + "'");
+      return LineError(name, line_number, "visible fraction must be a number in [0, 1], got '" + tokens[1] + "'");
     out->push_back({tokens[0], v});
-  }
-  return Status::Ok();
+    return Status::Ok();
+  });
 }
 
 Status ReadTruthMeta(const std::string& path, std::vector<TruthMeta>* out) {

@@ -12,12 +12,10 @@
 #include <sstream>
 #include <utility>
 
+#include "tools/eval/text_lines.h"
+
 namespace ellipsekit::eval {
 namespace {
-
-Status Error(const std::string& name, int line, const std::string& what) {
-  return Status(StatusCode::kInvalidArgument, name + ":" + std::to_string(line) + ": " + what);
-}
 
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
@@ -35,37 +33,28 @@ double NormalizeAngle(double theta) {
 Status ParseEllipses(std::string_view text, const std::string& name, std::vector<Ellipse>* out) {
   if (out == nullptr) return Status(StatusCode::kInvalidArgument, "ParseEllipses: null output");
   out->clear();
-  int line_number = 0;
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string line(text.substr(pos, end - pos));
-    pos = end + 1;
-    ++line_number;
-    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-
+  return ForEachTextLine(text, [&](int line_number, const std::string& line) {
     double v[5];
     int count = 0;
     const char* p = line.c_str();
     while (true) {
       while (IsSpace(*p)) ++p;
       if (*p == '\0') break;
-      if (count == 5) return Error(name, line_number, "more than 5 values (expected: cx cy a b theta)");
+      if (count == 5) return LineError(name, line_number, "more than 5 values (expected: cx cy a b theta)");
       char* next = nullptr;
       errno = 0;
       const double value = std::strtod(p, &next);
       if (next == p || (*next != '\0' && !IsSpace(*next))) {
         std::string token(p, std::strcspn(p, " \t\r\v\f"));
-        return Error(name, line_number, "not a number: '" + token + "'");
+        return LineError(name, line_number, "not a number: '" + token + "'");
       }
-      if (!std::isfinite(value)) return Error(name, line_number, "value is not finite");
+      if (!std::isfinite(value)) return LineError(name, line_number, "value is not finite");
       v[count++] = value;
       p = next;
     }
-    if (count == 0) continue;  // blank or comment-only line
+    if (count == 0) return Status::Ok();  // blank or comment-only line
     if (count != 5) {
-      return Error(name, line_number,
+      return LineError(name, line_number,
                    "expected 5 values (cx cy a b theta), got " + std::to_string(count));
     }
     Ellipse e;
@@ -74,15 +63,15 @@ Status ParseEllipses(std::string_view text, const std::string& name, std::vector
     e.a = v[2];
     e.b = v[3];
     e.theta = v[4];
-    if (!(e.a > 0) || !(e.b > 0)) return Error(name, line_number, "semi-axes must be > 0");
+    if (!(e.a > 0) || !(e.b > 0)) return LineError(name, line_number, "semi-axes must be > 0");
     if (e.a < e.b) {
       std::swap(e.a, e.b);
       e.theta += std::numbers::pi / 2;
     }
     e.theta = NormalizeAngle(e.theta);
     out->push_back(e);
-  }
-  return Status::Ok();
+    return Status::Ok();
+  });
 }
 
 Status ReadEllipses(const std::string& path, std::vector<Ellipse>* out) {
