@@ -116,7 +116,14 @@ Status SetOption(const std::string& assignment, Options* o) {
     if (value == "relative") { o->cluster_rule = ClusterRule::kRelative; return Status::Ok(); }
     return bad("feature_distance or relative");
   }
-  return {StatusCode::kInvalidArgument, "unknown option '" + name + "'"};
+  // Unknown: list every accepted name, so a typo is fixed without opening options.h.
+  std::string accepted;
+  auto add = [&](const char* n) { accepted += (accepted.empty() ? "" : ", ") + std::string(n); };
+  for (const DoubleField& f : doubles) add(f.name);
+  for (const IntField& f : ints) add(f.name);
+  for (const BoolField& f : bools) add(f.name);
+  for (const char* n : {"simd_target", "backend", "center_method", "obb_rule", "inlier_rule", "cluster_rule"}) add(n);
+  return {StatusCode::kInvalidArgument, "unknown option '" + name + "'; the options are: " + accepted};
 }
 
 }  // namespace ellipsekit

@@ -168,6 +168,9 @@ TEST(DetectorErrors, SetOption) {
   EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
   EXPECT_TRUE(Mentions(st, "unknown")) << st.message();
   EXPECT_TRUE(Mentions(st, "no_such_option")) << st.message();
+  EXPECT_TRUE(Mentions(st, "the options are: obb_threshold, ")) << st.message();  // the accepted names follow
+  EXPECT_TRUE(Mentions(st, "split_angle_deg")) << st.message();
+  EXPECT_TRUE(Mentions(st, "cluster_rule")) << st.message();
   st = SetOption("split_angle_deg", &o);
   EXPECT_FALSE(st.ok());
   EXPECT_TRUE(Mentions(st, "NAME=VALUE")) << st.message();

@@ -31,9 +31,10 @@ def run_cli(*args, check=True):
 
 
 def cli_detect_json(paths, *options):
-    """`ellipsekit detect --format json --warmup 0` with floats kept as their printed text."""
-    r = run_cli("detect", "--format", "json", "--warmup", "0", *options, *paths)
-    return {rep["path"]: rep for rep in json.loads(r.stdout, parse_float=str)}
+    """`ellipsekit detect --format json --exact --warmup 0`: every ellipse number printed with 17
+    significant digits, so float() of it is the detector's double, bit for bit."""
+    r = run_cli("detect", "--format", "json", "--exact", "--warmup", "0", *options, *paths)
+    return {rep["path"]: rep for rep in json.loads(r.stdout)}
 
 
 def dataset_images():
@@ -42,10 +43,9 @@ def dataset_images():
     return [os.path.relpath(p, REPO) for p in found]
 
 
-def formatted(row):
-    """A detect() row as `ellipsekit detect --format json` prints it (4 decimals for px, 6 for rad)."""
-    cx, cy, a, b, theta, score = (float(v) for v in row)
-    return [f"{cx:.4f}", f"{cy:.4f}", f"{a:.4f}", f"{b:.4f}", f"{theta:.6f}", f"{score:.6f}"]
+def exact_rows(rows):
+    """Rows (a detect() result or a batch record) as lists of Python floats, for == comparison."""
+    return [[float(v) for v in row] for row in rows]
 
 
 def cli_rows(report):

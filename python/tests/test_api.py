@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import ellipsekit
-from conftest import DATASETS, REPO, formatted, run_cli
+from conftest import DATASETS, REPO, run_cli
 
 SCENE_BMP = os.path.join(DATASETS, "smartphone_subset", "images", "04_00010.bmp")
 PRASAD = os.path.join(DATASETS, "prasad_subset", "images")
@@ -64,8 +64,11 @@ def test_every_option_is_known_to_the_parser(name):
 
 
 def test_unknown_option():
-    with pytest.raises(ValueError, match=r"^unknown option 'split_angle'$"):
+    with pytest.raises(ValueError, match=r"^unknown option 'split_angle'; the options are: ") as e:
         ellipsekit.Detector(split_angle=30)
+    # Every accepted name is listed, and only those.
+    listed = str(e.value).split("; the options are: ", 1)[1].split(", ")
+    assert sorted(listed) == sorted(ellipsekit.OPTION_NAMES)
 
 
 @pytest.mark.parametrize("kwargs, message", [

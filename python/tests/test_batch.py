@@ -14,7 +14,7 @@ import time
 
 import pytest
 
-from conftest import REPO, batch, cli_detect_json, cli_rows, formatted, read_jsonl, run_cli
+from conftest import REPO, batch, cli_detect_json, cli_rows, exact_rows, read_jsonl, run_cli
 
 
 def by_path(records):
@@ -47,7 +47,7 @@ def test_every_image_once_and_equal_to_the_cli(reference, images):
     for path in images:
         rec = recs[path]
         assert rec["status"] == "ok" and rec["backend"] == "simd" and rec["ms"] > 0
-        assert [formatted(row) for row in rec["ellipses"]] == cli_rows(cli[path]), path
+        assert exact_rows(rec["ellipses"]) == cli_rows(cli[path]), path
         found += len(rec["ellipses"])
     assert found > 300  # ~550 (a loader or detector that failed would find none)
     assert re.search(rf"^images: 200\nellipses: {found}\nerrors: 0\nworkers: 2 processes, 2 threads",

@@ -1,13 +1,13 @@
 """Detector.detect() against `ellipsekit detect --format json` on every shared dataset image.
 
-The CLI prints px with 4 decimals and angles and scores with 6; each value detect() returns, printed
-the same way, must be the same text, in the same order, with the same counts, caps and backend.
+With --exact the CLI prints each ellipse number with 17 significant digits; each double detect()
+returns must equal the CLI's bit for bit, in the same order, with the same counts, caps and backend.
 """
 import numpy as np
 import pytest
 
 import ellipsekit
-from conftest import cli_detect_json, cli_rows, dataset_images, formatted
+from conftest import cli_detect_json, cli_rows, dataset_images, exact_rows
 
 IMAGES = dataset_images()
 
@@ -30,7 +30,7 @@ def test_same_ellipses_as_the_cli(options, cli_options):
     for path in IMAGES:
         rep = reports[path]
         r = detector.detect(ellipsekit.read_gray(path))
-        assert [formatted(row) for row in r] == cli_rows(rep), path
+        assert exact_rows(r) == cli_rows(rep), path
         counts = dict(rep["counts"])
         assert counts.pop("caps_hit") == r.caps_hit, path
         assert counts == r.counts, path
@@ -47,4 +47,4 @@ def test_a_frame_and_its_copy_in_a_larger_buffer_agree_with_the_cli():
     big[1:-2, 2:-3] = gray
     r = ellipsekit.Detector().detect(big[1:-2, 2:-3])
     assert not r.input_copied
-    assert [formatted(row) for row in r] == cli_rows(rep)
+    assert exact_rows(r) == cli_rows(rep)

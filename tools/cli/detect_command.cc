@@ -28,6 +28,9 @@ const char kDetectUsage[] =
     "  --repeat R        timed detections per image, R >= 1 (default 1)\n"
     "  --warmup W        untimed detections per image before them, W >= 0 (default 1)\n"
     "  --format F        txt (default) or json\n"
+    "  --exact           json: each ellipse's numbers with 17 significant digits, so that read back\n"
+    "                    they are the detector's doubles bit for bit (default: 4 decimals for px,\n"
+    "                    6 for theta and score)\n"
     "  --draw DIR        write DIR/<image stem>.png: the image with the ellipses drawn in green\n"
     "  -h, --help        this text\n"
     "\n"
@@ -50,6 +53,7 @@ struct DetectArgs {
   int repeat = 1;
   int warmup = 1;
   bool json = false;
+  bool exact = false;  // --exact: round-trip digits for the ellipses
   std::string draw_dir;
   std::vector<std::string> images;
 };
@@ -77,7 +81,9 @@ StageTimings MedianTimings(const std::vector<StageTimings>& runs) {
   return m;
 }
 
-std::string ReportJson(const ImageReport& r) {
+std::string ReportJson(const ImageReport& r, bool exact) {
+  auto px = [&](double v) { return exact ? JsonExactNumber(v) : JsonNumber(v, 4); };
+  auto unit = [&](double v) { return exact ? JsonExactNumber(v) : JsonNumber(v, 6); };
   std::string s = "  {\"path\": " + JsonString(r.path) + ", \"median_ms\": " + JsonNumber(r.median_ms, 4) +
                   ", \"backend\": " + JsonString(BackendName(r.result.backend)) +
                   (r.result.simd_target[0] != '\0' ? ", \"simd_target\": " + JsonString(r.result.simd_target) : "") +
@@ -87,9 +93,8 @@ std::string ReportJson(const ImageReport& r) {
   for (std::size_t i = 0; i < r.result.ellipses.size(); ++i) {
     const Ellipse& e = r.result.ellipses[i];
     s += (i ? ",\n     " : "\n     ");
-    s += "{\"cx\": " + JsonNumber(e.cx, 4) + ", \"cy\": " + JsonNumber(e.cy, 4) + ", \"a\": " +
-         JsonNumber(e.a, 4) + ", \"b\": " + JsonNumber(e.b, 4) + ", \"theta\": " + JsonNumber(e.theta, 6) +
-         ", \"score\": " + JsonNumber(e.score, 6) + "}";
+    s += "{\"cx\": " + px(e.cx) + ", \"cy\": " + px(e.cy) + ", \"a\": " + px(e.a) + ", \"b\": " + px(e.b) +
+         ", \"theta\": " + unit(e.theta) + ", \"score\": " + unit(e.score) + "}";
   }
   s += r.result.ellipses.empty() ? "],\n" : "\n   ],\n";
   const StageTimings& t = r.timings;
@@ -134,6 +139,8 @@ DetectArgs ParseDetectArgs(const std::vector<std::string>& argv, bool* help) {
       const std::string v = r.Value();
       if (v != "txt" && v != "json") throw UsageError(name + ": bad value '" + v + "': expected txt or json");
       a.json = v == "json";
+    } else if (name == "--exact") {
+      a.exact = true;
     } else if (name == "--draw") {
       a.draw_dir = r.Value();
       if (a.draw_dir.empty()) throw UsageError("--draw needs a directory");
@@ -142,6 +149,7 @@ DetectArgs ParseDetectArgs(const std::vector<std::string>& argv, bool* help) {
     }
   }
   if (a.images.empty()) throw UsageError("no image given");
+  if (a.exact && !a.json) throw UsageError("--exact applies to --format json");
   return a;
 }
 
@@ -203,7 +211,7 @@ int RunDetect(const std::vector<std::string>& argv) {
 
     if (args.json) {
       std::fputs(first_json ? "" : ",\n", stdout);
-      std::fputs(ReportJson(report).c_str(), stdout);
+      std::fputs(ReportJson(report, args.exact).c_str(), stdout);
       first_json = false;
     } else {
       std::printf("# %s %zu %.3f\n", path.c_str(), report.result.ellipses.size(), report.median_ms);

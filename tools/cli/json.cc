@@ -36,4 +36,11 @@ std::string JsonNumber(double value, int digits) {
   return buf;
 }
 
+std::string JsonExactNumber(double value) {
+  if (!std::isfinite(value)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", value);
+  return buf;
+}
+
 }  // namespace ellipsekit::cli
