@@ -111,6 +111,13 @@ std::vector<StaticCase> StaticCases() {
 
 struct Errors {
   std::vector<double> rim_mm, interior_mm, pose_pct, pose_deg;
+  // Circle-pose breakdown (same detections): the truth ellipse with the rim's radius (the math),
+  // the detection with the radius of the circle it really outlines (scale removed: centre, shape
+  // and normal only), the detection's size against the truth's (sqrt(ab) ratio - 1, signed %),
+  // the other of the two pose candidates.
+  std::vector<double> pose_truth_pct, pose_scaled_pct, size_pct, pose_other_pct;
+  std::vector<double> pose_rim_outline_pct;  // circle pose of the detections within 5 % of the rim's size
+  int other_circle = 0;                      // detections more than 5 % off: another circle outlined
   int tops = 0, matched = 0, rim_ok = 0;
 };
 
@@ -178,6 +185,31 @@ Errors MeasureStatic() {
           std::snprintf(buf, sizeof buf, ", pose %.2f %% %.2f deg", e.pose_pct.back(), e.pose_deg.back());
           line += buf;
         }
+        {
+          const Ellipse& t = f.truth[static_cast<std::size_t>(k)];
+          const double rr = info.rim_radius_m[static_cast<std::size_t>(k)];
+          const double scale = std::sqrt(d->a * d->b / (t.a * t.b));
+          e.size_pct.push_back(100 * (scale - 1));
+          if (std::abs(scale - 1) > 0.05)
+            ++e.other_circle;
+          else if (cp.ok())
+            e.pose_rim_outline_pct.push_back(e.pose_pct.back());
+          auto ct = er::CirclePoseByNormal(t, rr, rig.camera, rig.up_cam);
+          auto cs = er::CirclePoseByNormal(*d, rr * scale, rig.camera, rig.up_cam);
+          auto both = er::CirclePoseCandidates(*d, rr, rig.camera);
+          if (ct.ok()) e.pose_truth_pct.push_back(100 * (rig.ToWorld(ct.value.centre) - truth).norm() / dist);
+          if (cs.ok()) e.pose_scaled_pct.push_back(100 * (rig.ToWorld(cs.value.centre) - truth).norm() / dist);
+          if (both.ok() && cp.ok()) {
+            const auto& o = (both.value[0].centre - cp.value.centre).norm() < 1e-12 ? both.value[1] : both.value[0];
+            e.pose_other_pct.push_back(100 * (rig.ToWorld(o.centre) - truth).norm() / dist);
+          }
+          std::snprintf(buf, sizeof buf, " [size %+.2f %%, dc %.2f px, truth-ellipse pose %.3f %%, scaled %.2f %%, other %.2f %%]",
+                        e.size_pct.back(), std::hypot(d->cx - t.cx, d->cy - t.cy),
+                        e.pose_truth_pct.empty() ? -1.0 : e.pose_truth_pct.back(),
+                        e.pose_scaled_pct.empty() ? -1.0 : e.pose_scaled_pct.back(),
+                        e.pose_other_pct.empty() ? -1.0 : e.pose_other_pct.back());
+          line += buf;
+        }
         std::printf("%s\n", line.c_str());
       }
     }
@@ -197,10 +229,28 @@ TEST(RobotRimCentre, StaticContainersRendered) {
               "p95 %.2f %%, %.2f deg)\n",
               e.matched, e.tops, e.rim_ok, r50, r95, i50, i95, c50, n50, Percentile(e.pose_pct, 95),
               Percentile(e.pose_deg, 95));
+  std::vector<double> abs_size;
+  for (double v : e.size_pct) abs_size.push_back(std::abs(v));
+  const double t50 = Percentile(e.pose_truth_pct, 50), s50 = Percentile(e.pose_scaled_pct, 50);
+  const double o50 = Percentile(e.pose_other_pct, 50);
+  std::printf("[rim] circle pose breakdown: truth ellipse %.3f %% median; detection with the radius it outlines %.2f %% "
+              "(p95 %.2f); |size error| %.2f %% median (p95 %.2f), signed median %+.2f %%; other candidate %.2f %%; "
+              "%d of %zu detections outline another circle (size > 5 %% off), the other %zu: %.2f %% median\n",
+              t50, s50, Percentile(e.pose_scaled_pct, 95), Percentile(abs_size, 50), Percentile(abs_size, 95),
+              Percentile(e.size_pct, 50), o50, e.other_circle, e.size_pct.size(), e.pose_rim_outline_pct.size(),
+              Percentile(e.pose_rim_outline_pct, 50));
   // Measured (2 frames x 10 scenes x 2 containers): 36 of 40 detected, rim 1.07 / 3.01 mm, interior
-  // 7.33 / 56.6 mm, circle pose 2.85 % / 1.72 deg. The circle pose's distance is only as good as the
-  // detected ellipse's size (1-3 % off on these rims; 0.87 % on the flat cans of TrackRendered), so
-  // its 1 % goal is not met here; the bound below guards the measured value.
+  // 7.33 / 56.6 mm, circle pose 2.85 % / 1.72 deg. Why the circle pose misses its 1 % goal here
+  // (the breakdown): the math is exact (the true ellipse with the rim's radius: 0.000 %); the
+  // ambiguity choice is right (the other candidate: 2.88 %); the error is the radius. 8 of 36
+  // detections outline another circle than the rim whose radius is given -- the inner edge of a
+  // recessed can's bead (sqrt(ab) 9-13 % small: 7.5-14.8 %), the jar lid's top blended with its side
+  // (6.4-6.7 % large), a cup's lip blended with its wall -- and the other 28 are 0.3-4 % off in
+  // size (a cup's lip and wall, a bead's shading; 2.19 % median with the rim's radius); with the radius of the circle the detection really outlines the median is 0.94 % (flat cans,
+  // TrackRendered.CirclePoseFromOneDetectedEllipse: 0.87 % with the lid's radius).
+  EXPECT_LE(t50, 0.01);      // the cone math on the exact ellipse
+  EXPECT_LE(c50, o50);       // the normal prior picks the better candidate
+  EXPECT_LE(s50, 1.0);       // the 1 % goal, with the radius of the circle outlined
   EXPECT_GE(e.matched, 34);
   EXPECT_EQ(e.rim_ok, e.matched);
   EXPECT_LE(r50, 1.5);
