@@ -31,12 +31,13 @@ Result<Eigen::Matrix3d> EllipseToNormalizedCone(const Ellipse& ellipse, const Ca
     const Eigen::Matrix3d Q = K.transpose() * c.value * K;  // pixel = K * normalised
     return R::Ok(Q / Q.norm());
   }
-  // Distortion bends the ellipse; sample its boundary, undistort, refit (64 points, exact for a
-  // conic, and a least-squares conic for the mildly non-conic undistorted curve).
-  std::vector<Eigen::Vector2d> pts;
-  pts.reserve(64);
-  for (int i = 0; i < 64; ++i) {
-    pts.push_back(camera.UndistortPixel(EllipsePoint(ellipse, 2 * std::numbers::pi * i / 64.0)));
+  // Distortion bends the ellipse; sample its boundary, undistort, refit (kConicSamples = 64 points,
+  // exact for a conic, and a least-squares conic for the mildly non-conic undistorted curve). Fixed
+  // storage: no allocation per call.
+  std::array<Eigen::Vector2d, kConicSamples> pts;
+  for (int i = 0; i < kConicSamples; ++i) {
+    pts[static_cast<std::size_t>(i)] =
+        camera.UndistortPixel(EllipsePoint(ellipse, 2 * std::numbers::pi * i / static_cast<double>(kConicSamples)));
   }
   return FitConic(pts);
 }

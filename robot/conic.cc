@@ -71,30 +71,45 @@ Result<Ellipse> ConicToEllipse(const Eigen::Matrix3d& conic_in) {
   return R::Ok(e);
 }
 
-Result<Eigen::Matrix3d> FitConic(const std::vector<Eigen::Vector2d>& pts) {
+namespace {
+
+// FitConic for n points into the design matrix D (n x 6, dynamic or fixed-size storage).
+template <class DesignMatrix>
+Result<Eigen::Matrix3d> FitConicInto(const Eigen::Vector2d* pts, std::size_t n, DesignMatrix& D) {
   using R = Result<Eigen::Matrix3d>;
-  if (pts.size() < 5) return R::Error(StatusCode::kInvalidArgument, "conic fit: needs >= 5 points");
+  if (n < 5) return R::Error(StatusCode::kInvalidArgument, "conic fit: needs >= 5 points");
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& p : pts) mean += p;
-  mean /= static_cast<double>(pts.size());
+  for (std::size_t i = 0; i < n; ++i) mean += pts[i];
+  mean /= static_cast<double>(n);
   double rms = 0;
-  for (const auto& p : pts) rms += (p - mean).squaredNorm();
-  rms = std::sqrt(rms / static_cast<double>(pts.size()));
+  for (std::size_t i = 0; i < n; ++i) rms += (pts[i] - mean).squaredNorm();
+  rms = std::sqrt(rms / static_cast<double>(n));
   if (!(rms > 0) || !std::isfinite(rms)) return R::Error(StatusCode::kInvalidArgument, "conic fit: degenerate points");
   const double s = std::sqrt(2.0) / rms;
-  Eigen::MatrixXd D(pts.size(), 6);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     const double x = (pts[i].x() - mean.x()) * s, y = (pts[i].y() - mean.y()) * s;
     D.row(static_cast<Eigen::Index>(i)) << x * x, x * y, y * y, x, y, 1;
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(D, Eigen::ComputeFullV);
-  const Eigen::VectorXd c = svd.matrixV().col(5);
+  Eigen::JacobiSVD<DesignMatrix> svd(D, Eigen::ComputeFullV);
+  const Eigen::Matrix<double, 6, 1> c = svd.matrixV().col(5);
   Eigen::Matrix3d Cn;
   Cn << c(0), c(1) / 2, c(3) / 2, c(1) / 2, c(2), c(4) / 2, c(3) / 2, c(4) / 2, c(5);
   Eigen::Matrix3d T;  // normalised = T * pixel
   T << s, 0, -s * mean.x(), 0, s, -s * mean.y(), 0, 0, 1;
   const Eigen::Matrix3d C = T.transpose() * Cn * T;
   return R::Ok(C / C.norm());
+}
+
+}  // namespace
+
+Result<Eigen::Matrix3d> FitConic(const std::vector<Eigen::Vector2d>& pts) {
+  Eigen::MatrixXd D(static_cast<Eigen::Index>(pts.size()), 6);
+  return FitConicInto(pts.data(), pts.size(), D);
+}
+
+Result<Eigen::Matrix3d> FitConic(const std::array<Eigen::Vector2d, kConicSamples>& pts) {
+  Eigen::Matrix<double, kConicSamples, 6> D;
+  return FitConicInto(pts.data(), pts.size(), D);
 }
 
 Eigen::Vector2d EllipsePoint(const Ellipse& e, double t) {

@@ -30,6 +30,8 @@ Result<ConveyorTracker> ConveyorTracker::Create(const ConveyorReference& start, 
   c.options_ = options;
   c.length_ = len;
   c.direction_ = (end.point - start.point) / len;
+  c.samples_.reserve(256);
+  c.pending_.reserve(256);
   return R::Ok(std::move(c));
 }
 
@@ -96,8 +98,15 @@ Status ConveyorTracker::AddObservation(const Eigen::Vector2d& pixel, double stam
   pending_.clear();
   misfits_ = 0;
   samples_.push_back(x);
-  while (samples_.size() > 2 && samples_.front().t < stamp_s - options_.window_s) samples_.pop_front();
+  std::size_t drop = 0;  // the oldest samples out of the window, keeping at least 2
+  while (samples_.size() - drop > 2 && samples_[drop].t < stamp_s - options_.window_s) ++drop;
+  samples_.erase(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(drop));
   return Status::Ok();
+}
+
+bool ConveyorTracker::HasSpeed() const {
+  double s0, v, tr, rms;
+  return static_cast<int>(samples_.size()) >= options_.min_samples && Fit(&s0, &v, &tr, &rms);
 }
 
 Result<ConveyorState> ConveyorTracker::State() const {

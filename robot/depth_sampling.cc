@@ -49,16 +49,23 @@ double DepthAt(const DepthImageView& d, int x, int y) {
   return (std::isfinite(m) && m > 0) ? static_cast<double>(m) : std::numeric_limits<double>::quiet_NaN();
 }
 
-Result<DepthSample> SampleTopCentre(const Ellipse& e, const DepthImageView& depth, const CameraModel& camera,
-                                    const DepthSampleOptions& opt) {
-  using R = Result<DepthSample>;
-  if (Status s = CheckView(depth); !s.ok()) return R{s, {}};
+namespace {
+
+// SampleTopCentre into `z` (cleared, then one valid depth per pixel) and *result; on failure false,
+// with the message in *err when err is not null (no message is built otherwise).
+bool SampleInto(const Ellipse& e, const DepthImageView& depth, const CameraModel& camera,
+                const DepthSampleOptions& opt, std::vector<double>& z, DepthSample* result, Status* err) {
+  auto fail = [&](auto&& make) {
+    if (err != nullptr) *err = make();
+    return false;
+  };
+  if (Status s = CheckView(depth); !s.ok()) return fail([&] { return s; });
   if (!(std::isfinite(e.cx) && std::isfinite(e.cy) && std::isfinite(e.theta) && e.a > 0 && e.b > 0 &&
         std::isfinite(e.a) && std::isfinite(e.b))) {
-    return R::Error(StatusCode::kInvalidArgument, "depth: degenerate ellipse");
+    return fail([] { return Status(StatusCode::kInvalidArgument, "depth: degenerate ellipse"); });
   }
   if (!(opt.inner_scale > 0 && opt.inner_scale <= 1)) {
-    return R::Error(StatusCode::kInvalidArgument, "depth: inner_scale must be in (0, 1]");
+    return fail([] { return Status(StatusCode::kInvalidArgument, "depth: inner_scale must be in (0, 1]"); });
   }
   const double a = opt.inner_scale * e.a, b = opt.inner_scale * e.b;
   const double c = std::cos(e.theta), s = std::sin(e.theta);
@@ -67,7 +74,7 @@ Result<DepthSample> SampleTopCentre(const Ellipse& e, const DepthImageView& dept
   const int x1 = std::min(depth.width - 1, static_cast<int>(std::floor(e.cx + hx)));
   const int y0 = std::max(0, static_cast<int>(std::ceil(e.cy - hy)));
   const int y1 = std::min(depth.height - 1, static_cast<int>(std::floor(e.cy + hy)));
-  std::vector<double> z;
+  z.clear();
   int total = 0;
   for (int y = y0; y <= y1; ++y) {
     for (int x = x0; x <= x1; ++x) {
@@ -82,9 +89,10 @@ Result<DepthSample> SampleTopCentre(const Ellipse& e, const DepthImageView& dept
   const int valid = static_cast<int>(z.size());
   if (total == 0 || valid < opt.min_valid_samples ||
       valid < opt.min_valid_fraction * static_cast<double>(total)) {
-    return R::Error(StatusCode::kInvalidArgument,
-                    "depth: too few valid samples inside the ellipse (" + std::to_string(valid) + " of " +
-                        std::to_string(total) + ")");
+    return fail([&] {
+      return Status(StatusCode::kInvalidArgument, "depth: too few valid samples inside the ellipse (" +
+                                                      std::to_string(valid) + " of " + std::to_string(total) + ")");
+    });
   }
   DepthSample out;
   out.valid_samples = valid;
@@ -98,14 +106,31 @@ Result<DepthSample> SampleTopCentre(const Ellipse& e, const DepthImageView& dept
   out.centre = pe;
   if (opt.plane_normal) {
     auto cp = ProjectedCircleCentre(e, camera, *opt.plane_normal);
-    if (!cp.ok()) return R{cp.status, {}};
+    if (!cp.ok()) return fail([&] { return cp.status; });
     const Eigen::Vector3d n = opt.plane_normal->normalized();
     const Eigen::Vector2d nc = camera.UndistortPixel(cp.value);
     const Eigen::Vector3d rc(nc.x(), nc.y(), 1);
     const double den = n.dot(rc);
     if (std::abs(den) > 1e-9) out.centre = rc * (n.dot(pe) / den);  // ray meets the top's plane
   }
-  return R::Ok(out);
+  *result = out;
+  return true;
+}
+
+}  // namespace
+
+Result<DepthSample> SampleTopCentre(const Ellipse& e, const DepthImageView& depth, const CameraModel& camera,
+                                    const DepthSampleOptions& opt) {
+  std::vector<double> z;
+  DepthSample out;
+  Status err;
+  if (SampleInto(e, depth, camera, opt, z, &out, &err)) return Result<DepthSample>::Ok(out);
+  return Result<DepthSample>{err, {}};
+}
+
+bool TrySampleTopCentre(const Ellipse& e, const DepthImageView& depth, const CameraModel& camera,
+                        const DepthSampleOptions& opt, std::vector<double>* scratch, DepthSample* out) {
+  return scratch != nullptr && out != nullptr && SampleInto(e, depth, camera, opt, *scratch, out, nullptr);
 }
 
 void CentreAverager::Add(const Eigen::Vector3d& centre) {

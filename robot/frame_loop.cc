@@ -11,6 +11,10 @@
 
 namespace ellipsekit::robot {
 
+namespace {
+constexpr std::size_t kTracksRoom = 64, kDetectionsRoom = 256;  // as the tracker's (tracker.h)
+}  // namespace
+
 const char* CentreSourceName(CentreSource s) {
   switch (s) {
     case CentreSource::kNone: return "none";
@@ -54,7 +58,11 @@ FrameLoop::FrameLoop(const CameraModel& camera, FrameLoopOptions options)
     }
     belt_ = std::move(c.value);
   }
-  states_.reserve(16);
+  // Room for the tracks the tracker has room for (tracker.h), and for the interior median's depths
+  // (at most the image's pixels): the per-frame work then allocates nothing.
+  states_.reserve(kTracksRoom);
+  if (options_.top_centre == TopCentreMethod::kInteriorMedian && camera_.width() > 0 && camera_.height() > 0)
+    interior_depths_.reserve(static_cast<std::size_t>(camera_.width()) * static_cast<std::size_t>(camera_.height()));
 }
 
 Result<Eigen::Vector2d> FrameLoop::ProjectWorld(const Eigen::Vector3d& p) const {
@@ -96,9 +104,13 @@ Status FrameLoop::ProcessDetections(const std::vector<Ellipse>& dets, const Dept
   }
   if (Status st = tracker_.Update(dets, stamp_s); !st.ok()) return st;
   out->stamp_s = stamp_s;
+  // The caller's output keeps its room (a vector's copy assignment reuses it); it gets the same room
+  // as the tracker's on the first frame, so a frame with a few more tops does not grow it.
+  if (out->detections.capacity() < kDetectionsRoom) out->detections.reserve(kDetectionsRoom);
+  if (out->tracks.capacity() < kTracksRoom) out->tracks.reserve(kTracksRoom);
   out->detections = dets;
   out->tracks.clear();
-  out->grasp = GraspOutput();
+  out->grasp = GraspOutput();  // its frame ids are empty strings: no allocation
 
   // 3-D top centres of the tracks hit this frame.
   for (const Track& tr : tracker_.tracks()) {
@@ -114,22 +126,24 @@ Status FrameLoop::ProcessDetections(const std::vector<Ellipse>& dets, const Dept
       const Ellipse& e = dets[static_cast<std::size_t>(tr.detection_index)];
       std::optional<Eigen::Vector3d> pc;
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      // The Try* calls: a failure (too little depth on this top) is ordinary here, and falls back
+      // to the circle pose without building an error message.
       if (depth != nullptr && options_.top_centre == TopCentreMethod::kRimPlane) {
-        auto rs = rim_.Sample(e, *depth, camera_);
-        if (rs.ok()) {
-          pc = rs.value.centre;
-          cov = rs.value.covariance;
-          to.samples = rs.value.inliers;
+        RimSample rs;
+        if (rim_.TrySample(e, *depth, camera_, &rs)) {
+          pc = rs.centre;
+          cov = rs.covariance;
+          to.samples = rs.inliers;
           to.source = CentreSource::kRimPlane;
         }
       } else if (depth != nullptr) {
-        auto ds = SampleTopCentre(e, *depth, camera_, options_.interior);
-        if (ds.ok()) {
-          pc = ds.value.centre;
-          const double sz = 1.4826 * ds.value.mad_depth_m / std::sqrt(std::max(1, ds.value.valid_samples));
+        DepthSample ds;
+        if (TrySampleTopCentre(e, *depth, camera_, options_.interior, &interior_depths_, &ds)) {
+          pc = ds.centre;
+          const double sz = 1.4826 * ds.mad_depth_m / std::sqrt(std::max(1, ds.valid_samples));
           const Eigen::Vector3d dir = pc->normalized();
           cov = dir * dir.transpose() * (sz * sz);
-          to.samples = ds.value.valid_samples;
+          to.samples = ds.valid_samples;
           to.source = CentreSource::kInteriorMedian;
         }
       }
@@ -198,10 +212,12 @@ Status FrameLoop::ProcessDetections(const std::vector<Ellipse>& dets, const Dept
     if (t.detected && t.source != CentreSource::kNone) {
       if (Status st = belt_->AddObservation(t.centre_pixel, stamp_s); !st.ok()) return st;
     }
-    auto bs = belt_->State();
-    if (bs.ok()) t.velocity = bs.value.speed_m_s * belt_->direction();
+    if (belt_->HasSpeed()) {
+      auto bs = belt_->State();
+      if (bs.ok()) t.velocity = bs.value.speed_m_s * belt_->direction();
+    }
   }
-  if (belt_id_ >= 0) {
+  if (belt_id_ >= 0 && belt_->HasSpeed()) {  // no speed yet: no plan (and no error message built)
     auto plan = PlanConveyorGrasp(*belt_, stamp_s, options_.grasp);
     auto s_then = belt_->PredictPosition(stamp_s + options_.grasp.latency_s);
     if (plan.ok() && s_then.ok()) {

@@ -32,26 +32,68 @@ const char* TopCentreMethodName(TopCentreMethod m) {
 
 Result<RimSample> RimCentreSampler::Sample(const Ellipse& e, const DepthImageView& depth, const CameraModel& camera) {
   using R = Result<RimSample>;
+  RimSample s;
+  if (TrySample(e, depth, camera, &s)) return R::Ok(s);
+  return R{LastError(), {}};
+}
+
+Status RimCentreSampler::LastError() const {
+  auto too_few = [&](const std::string& what) {
+    return Status(StatusCode::kInvalidArgument, "rim depth: " + what + " (" + std::to_string(fail_valid_) + " valid of " +
+                                                    std::to_string(fail_total_) + " samples on the rim)");
+  };
+  switch (failure_) {
+    case Failure::kNone: return Status::Ok();
+    case Failure::kBadView:
+      return Status(StatusCode::kInvalidArgument, "rim depth: empty image or step < width * bytes per pixel");
+    case Failure::kBadEllipse: return Status(StatusCode::kInvalidArgument, "rim depth: degenerate ellipse");
+    case Failure::kBadOptions:
+      return Status(StatusCode::kInvalidArgument,
+                    "rim depth: bad options (0 <= offsets[0] <= offsets[1] < b, 8 <= min_angles <= max_angles, "
+                    "positive gates, 3 <= min_inliers, 1 <= min_sectors <= 16)");
+    case Failure::kBadNormal:
+      return Status(StatusCode::kInvalidArgument, "rim depth: plane_normal must be a finite non-zero vector");
+    case Failure::kTooFewValid: return too_few("too few valid depth samples");
+    case Failure::kTooFewOnPlane: return too_few("too few samples on the rim's plane");
+    case Failure::kTooFewSectors: return too_few("rim samples cover " + std::to_string(fail_sectors_) + " of 16 sectors");
+    case Failure::kEdgeOn: return Status(StatusCode::kInvalidArgument, "rim depth: the rim plane is edge-on");
+    case Failure::kBehind: return Status(StatusCode::kInvalidArgument, "rim depth: the rim plane is behind the camera");
+    case Failure::kInner: return inner_;
+  }
+  return Status(StatusCode::kInternal, "rim depth: unknown failure");
+}
+
+bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, const CameraModel& camera,
+                                 RimSample* result) {
   const RimSampleOptions& o = options_;
+  failure_ = Failure::kNone;
+  auto fail = [&](Failure f) {
+    failure_ = f;
+    return false;
+  };
   const std::size_t bpp = depth.encoding == DepthEncoding::k16UC1 ? 2 : 4;
   if (depth.data == nullptr || depth.width <= 0 || depth.height <= 0 ||
       depth.step < static_cast<std::size_t>(depth.width) * bpp)
-    return R::Error(StatusCode::kInvalidArgument, "rim depth: empty image or step < width * bytes per pixel");
+    return fail(Failure::kBadView);
   if (!(std::isfinite(e.cx) && std::isfinite(e.cy) && std::isfinite(e.theta) && std::isfinite(e.a) &&
         std::isfinite(e.b) && e.a > 0 && e.b > 0))
-    return R::Error(StatusCode::kInvalidArgument, "rim depth: degenerate ellipse");
+    return fail(Failure::kBadEllipse);
   if (!(o.offsets_px[0] >= 0 && o.offsets_px[1] >= o.offsets_px[0] && o.offsets_px[1] < e.b &&
         o.min_angles >= 8 && o.max_angles >= o.min_angles && o.inlier_sigmas > 0 && o.off_object_m > 0 &&
         o.min_noise_m > 0 && o.min_inliers >= 3 && o.min_sectors >= 1 && o.min_sectors <= kSectors))
-    return R::Error(StatusCode::kInvalidArgument,
-                    "rim depth: bad options (0 <= offsets[0] <= offsets[1] < b, 8 <= min_angles <= max_angles, "
-                    "positive gates, 3 <= min_inliers, 1 <= min_sectors <= 16)");
+    return fail(Failure::kBadOptions);
 
   // 1. Samples on both sides of the outline; remember each sample's side and angle sector.
   const double a = e.a, b = e.b, ct = std::cos(e.theta), st = std::sin(e.theta);
   const double perimeter = kPi * (3 * (a + b) - std::sqrt((3 * a + b) * (a + 3 * b)));
   const int n_ang = std::clamp(static_cast<int>(std::ceil(perimeter)), o.min_angles, o.max_angles);
   pts_.clear();
+  // Room for the most samples any outline can give (2 sides x offsets x max_angles), once: the
+  // vectors then never grow.
+  const std::size_t most = 2 * o.offsets_px.size() * static_cast<std::size_t>(o.max_angles);
+  if (pts_.capacity() < most) pts_.reserve(most);
+  if (tmp_.capacity() < most) tmp_.reserve(most);
+  if (idx_.capacity() < most) idx_.reserve(most);
   RimSample out;
   for (int k = 0; k < n_ang; ++k) {
     const double phi = 2 * kPi * k / n_ang, cp = std::cos(phi), sp = std::sin(phi);
@@ -76,12 +118,9 @@ Result<RimSample> RimCentreSampler::Sample(const Ellipse& e, const DepthImageVie
     }
   }
   out.valid_samples = static_cast<int>(pts_.size());
-  auto too_few = [&](const char* what) {
-    return R::Error(StatusCode::kInvalidArgument,
-                    std::string("rim depth: ") + what + " (" + std::to_string(out.valid_samples) + " valid of " +
-                        std::to_string(out.total_samples) + " samples on the rim)");
-  };
-  if (out.valid_samples < o.min_inliers) return too_few("too few valid depth samples");
+  fail_valid_ = out.valid_samples;
+  fail_total_ = out.total_samples;
+  if (out.valid_samples < o.min_inliers) return fail(Failure::kTooFewValid);
 
   const Eigen::Vector2d ne = camera.UndistortPixel(Eigen::Vector2d(e.cx, e.cy));
   const Eigen::Vector3d ray_e(ne.x(), ne.y(), 1);
@@ -193,31 +232,38 @@ Result<RimSample> RimCentreSampler::Sample(const Ellipse& e, const DepthImageVie
   int min_sectors = o.min_sectors;
   if (o.plane_normal) {
     if (!(o.plane_normal->allFinite() && o.plane_normal->norm() > 1e-9))
-      return R::Error(StatusCode::kInvalidArgument, "rim depth: plane_normal must be a finite non-zero vector");
+      return fail(Failure::kBadNormal);
     fit = run(o.plane_normal->normalized(), false);
   } else {
     auto cand = CirclePoseCandidates(e, 1.0, camera);
-    if (!cand.ok()) return R{cand.status, {}};
+    if (!cand.ok()) {
+      inner_ = cand.status;
+      return fail(Failure::kInner);
+    }
     min_sectors = std::max(min_sectors, 8);
     for (const CirclePose& c : cand.value) {
       Fit f = run(c.normal, true);
       if (f.ok && (!fit.ok || f.inliers > fit.inliers)) fit = f;
     }
   }
-  if (!fit.ok || fit.inliers < o.min_inliers) return too_few("too few samples on the rim's plane");
-  if (fit.sectors < min_sectors)
-    return too_few(("rim samples cover " + std::to_string(fit.sectors) + " of 16 sectors").c_str());
+  if (!fit.ok || fit.inliers < o.min_inliers) return fail(Failure::kTooFewOnPlane);
+  if (fit.sectors < min_sectors) {
+    fail_sectors_ = fit.sectors;
+    return fail(Failure::kTooFewSectors);
+  }
 
   // 5. The centre: the pole ray meets the plane n . X = d.
   auto pole = ProjectedCircleCentre(e, camera, fit.n);
-  if (!pole.ok()) return R{pole.status, {}};
+  if (!pole.ok()) {
+    inner_ = pole.status;
+    return fail(Failure::kInner);
+  }
   const Eigen::Vector2d np = camera.UndistortPixel(pole.value);
   const Eigen::Vector3d ray(np.x(), np.y(), 1);
   const double den = fit.n.dot(ray);
-  if (std::abs(den) < 1e-9) return R::Error(StatusCode::kInvalidArgument, "rim depth: the rim plane is edge-on");
+  if (std::abs(den) < 1e-9) return fail(Failure::kEdgeOn);
   out.pole_centre = ray * (fit.d / den);
-  if (!(out.pole_centre.z() > 0))
-    return R::Error(StatusCode::kInvalidArgument, "rim depth: the rim plane is behind the camera");
+  if (!(out.pole_centre.z() > 0)) return fail(Failure::kBehind);
   out.centre = out.pole_centre;
   // The circle through the inliers, in the plane (algebraic fit, then once more without the points
   // off it by more than 3 robust sigmas): its centre does not depend on the detected outline's
@@ -284,7 +330,8 @@ Result<RimSample> RimCentreSampler::Sample(const Ellipse& e, const DepthImageVie
     ++rn;
   }
   out.radius_m = rn > 0 ? rsum / rn : 0;
-  return R::Ok(out);
+  *result = out;
+  return true;
 }
 
 }  // namespace ellipsekit::robot

@@ -30,6 +30,15 @@ const char* TrackStateName(TrackState s) {
   return "?";
 }
 
+EllipseTracker::EllipseTracker(TrackerOptions options) : options_(options) {
+  constexpr int kTracks = 64, kDetections = 256;
+  tracks_.reserve(kTracks);
+  filters_.reserve(kTracks);
+  cost_.reserve(static_cast<std::size_t>(kTracks) * kDetections);
+  det_used_.reserve(kDetections);
+  solver_.Reserve(kTracks, kDetections);
+}
+
 void EllipseTracker::Reset() {
   tracks_.clear();
   filters_.clear();
@@ -66,42 +75,48 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
 
   for (auto& f : filters_) f.kf.Predict(dt);
 
-  // Gated cost matrix: tracks x detections.
+  // Gated cost matrix: tracks x detections (column-major, in the kept buffer).
   const double kForbidden = 1e18;
   const int nt = static_cast<int>(tracks_.size()), nd = static_cast<int>(dets.size());
-  Eigen::MatrixXd cost(nt, nd);
+  cost_.resize(static_cast<std::size_t>(nt) * static_cast<std::size_t>(nd));
   for (int i = 0; i < nt; ++i) {
-    const auto& f = filters_[i];
+    const auto& f = filters_[static_cast<std::size_t>(i)];
     const Eigen::Vector2d pred = f.kf.position();
     const Eigen::Matrix2d S = f.kf.PositionCovariance() + options_.measurement_var * Eigen::Matrix2d::Identity();
-    const double sigma = std::sqrt(S.eigenvalues().real().maxCoeff());
+    // Largest eigenvalue of the symmetric 2 x 2 S.
+    const double half_tr = 0.5 * (S(0, 0) + S(1, 1));
+    const double lmax = half_tr + std::sqrt(0.25 * (S(0, 0) - S(1, 1)) * (S(0, 0) - S(1, 1)) + S(0, 1) * S(1, 0));
+    const double sigma = std::sqrt(lmax);
     const double gate = std::min(std::max(options_.gate_px, options_.gate_sigmas * sigma), 4 * options_.gate_px);
     for (int j = 0; j < nd; ++j) {
-      const double dist = (Eigen::Vector2d(dets[j].cx, dets[j].cy) - pred).norm();
-      const double axis = std::max(std::abs(dets[j].a - f.a) / f.a, std::abs(dets[j].b - f.b) / f.b);
-      cost(i, j) = (dist > gate || axis > options_.max_axis_rel_diff)
-                       ? kForbidden
-                       : dist / gate + options_.axis_cost_weight * axis;
+      const Ellipse& d = dets[static_cast<std::size_t>(j)];
+      const double dist = (Eigen::Vector2d(d.cx, d.cy) - pred).norm();
+      const double axis = std::max(std::abs(d.a - f.a) / f.a, std::abs(d.b - f.b) / f.b);
+      cost_[static_cast<std::size_t>(i) + static_cast<std::size_t>(j) * static_cast<std::size_t>(nt)] =
+          (dist > gate || axis > options_.max_axis_rel_diff) ? kForbidden
+                                                             : dist / gate + options_.axis_cost_weight * axis;
     }
   }
-  const std::vector<int> match = SolveAssignment(cost, kForbidden);
+  const std::vector<int>& match = solver_.Solve(cost_.data(), nt, nd, kForbidden);
 
-  std::vector<char> det_used(nd, 0);
-  std::vector<char> keep(nt, 1);
+  det_used_.assign(static_cast<std::size_t>(nd), 0);
+  int kept = 0;  // tracks are compacted in place: kept ones move to the front, in order
   for (int i = 0; i < nt; ++i) {
-    Track& t = tracks_[i];
-    auto& f = filters_[i];
-    const int j = match[i];
+    Track& t = tracks_[static_cast<std::size_t>(i)];
+    auto& f = filters_[static_cast<std::size_t>(i)];
+    const int j = match[static_cast<std::size_t>(i)];
+    bool keep = true;
     t.detection_index = j;
     if (j >= 0) {
-      det_used[j] = 1;
-      f.kf.Update(Eigen::Vector2d(dets[j].cx, dets[j].cy));
+      const Ellipse& d = dets[static_cast<std::size_t>(j)];
+      det_used_[static_cast<std::size_t>(j)] = 1;
+      f.kf.Update(Eigen::Vector2d(d.cx, d.cy));
       const double w = options_.axis_smoothing;
-      f.a = (1 - w) * f.a + w * dets[j].a;
-      f.b = (1 - w) * f.b + w * dets[j].b;
-      f.score = (1 - w) * f.score + w * dets[j].score;
-      t.ellipse.theta = dets[j].theta;
-      t.ellipse.score = dets[j].score;
+      f.a = (1 - w) * f.a + w * d.a;
+      f.b = (1 - w) * f.b + w * d.b;
+      f.score = (1 - w) * f.score + w * d.score;
+      t.ellipse.theta = d.theta;
+      t.ellipse.score = d.score;
       ++t.hits;
       t.misses = 0;
       t.last_seen_s = stamp_s;
@@ -111,10 +126,10 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
     } else {
       ++t.misses;
       if (t.state == TrackState::kTentative) {
-        keep[i] = 0;
+        keep = false;
       } else {
         t.state = TrackState::kLost;
-        if (stamp_s - t.last_seen_s > options_.max_lost_s) keep[i] = 0;
+        if (stamp_s - t.last_seen_s > options_.max_lost_s) keep = false;
       }
     }
     const Eigen::Vector2d p = f.kf.position();
@@ -123,15 +138,16 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
     t.ellipse.a = std::max(f.a, f.b);
     t.ellipse.b = std::min(f.a, f.b);
     t.velocity_px_s = f.kf.velocity();
-  }
-  std::vector<Track> tracks;
-  std::vector<Internal> filters;
-  for (int i = 0; i < nt; ++i) {
-    if (keep[i]) {
-      tracks.push_back(tracks_[i]);
-      filters.push_back(filters_[i]);
+    if (keep) {
+      if (kept != i) {
+        tracks_[static_cast<std::size_t>(kept)] = t;
+        filters_[static_cast<std::size_t>(kept)] = f;
+      }
+      ++kept;
     }
   }
+  tracks_.erase(tracks_.begin() + kept, tracks_.end());
+  filters_.erase(filters_.begin() + kept, filters_.end());
   // Track birth. A detection left unassigned that overlaps an established (confirmed or lost)
   // track, i.e. its centre lies inside the track's ellipse at the filtered/predicted position or the
   // track's centre inside the detection, competes with that track for the same image region: two
@@ -147,11 +163,11 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
   auto may_start_track = [&](const Ellipse& d) {
     int overlapped = 0;
     double best_score = -INFINITY;
-    for (std::size_t i = 0; i < tracks.size(); ++i) {
-      if (tracks[i].state == TrackState::kTentative) continue;
-      const Internal& f = filters[i];
+    for (std::size_t i = 0; i < tracks_.size(); ++i) {
+      if (tracks_[i].state == TrackState::kTentative) continue;
+      const Internal& f = filters_[i];
       const Eigen::Vector2d p = f.kf.position();
-      if (Inside(d.cx, d.cy, p.x(), p.y(), f.a, f.b, tracks[i].ellipse.theta) ||
+      if (Inside(d.cx, d.cy, p.x(), p.y(), f.a, f.b, tracks_[i].ellipse.theta) ||
           Inside(p.x(), p.y(), d.cx, d.cy, d.a, d.b, d.theta)) {
         ++overlapped;
         best_score = std::max(best_score, f.score);
@@ -160,7 +176,7 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
     return overlapped == 0 || (overlapped == 1 && d.score > best_score);
   };
   for (int j = 0; j < nd; ++j) {
-    if (det_used[j] || !may_start_track(dets[j])) continue;
+    if (det_used_[static_cast<std::size_t>(j)] || !may_start_track(dets[static_cast<std::size_t>(j)])) continue;
     Track t;
     t.id = next_id_++;
     t.state = options_.confirm_hits <= 1 ? TrackState::kConfirmed : TrackState::kTentative;
@@ -168,14 +184,12 @@ Status EllipseTracker::Update(const std::vector<Ellipse>& dets, double stamp_s) 
     t.hits = 1;
     t.first_seen_s = t.last_seen_s = stamp_s;
     t.detection_index = j;
-    tracks.push_back(t);
-    filters.push_back(Internal{ConstantVelocityKalman(Eigen::Vector2d(dets[j].cx, dets[j].cy),
+    tracks_.push_back(t);
+    filters_.push_back(Internal{ConstantVelocityKalman(Eigen::Vector2d(dets[j].cx, dets[j].cy),
                                                       options_.measurement_var, options_.initial_velocity_var,
                                                       options_.accel_density, options_.measurement_var),
                                dets[j].a, dets[j].b, dets[j].score});
   }
-  tracks_ = std::move(tracks);
-  filters_ = std::move(filters);
   return Status::Ok();
 }
 

@@ -5,6 +5,9 @@
 // RotatedRect angle in radians, in [-pi/2, pi/2), x right y down, pixel centres at integers).
 #pragma once
 
+#include <array>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "ellipsekit/robot/messages.h"
@@ -23,6 +26,10 @@ Result<Ellipse> ConicToEllipse(const Eigen::Matrix3d& conic);
 // Least-squares conic through >= 5 points (normalised for conditioning; the smallest right
 // singular vector of the design matrix). Used to carry an ellipse through lens distortion.
 Result<Eigen::Matrix3d> FitConic(const std::vector<Eigen::Vector2d>& points);
+// The same for exactly kConicSamples points in fixed-size storage: no allocation (the circle pose
+// carries a detection through lens distortion this way on every frame).
+inline constexpr int kConicSamples = 64;
+Result<Eigen::Matrix3d> FitConic(const std::array<Eigen::Vector2d, kConicSamples>& points);
 
 // Point on the ellipse at parameter t (radians): centre + a cos t u + b sin t v.
 Eigen::Vector2d EllipsePoint(const Ellipse& e, double t);

@@ -11,10 +11,13 @@
 // Speed: least-squares line s(t) over the newest window of observations. When the object turns
 // round (the guide's return phase), new samples stop fitting; after `reversal_count` consecutive
 // misfits the window restarts from them.
+//
+// The observations live in vectors that keep their room (256 from the start; more only when a
+// window holds more observations than that): AddObservation, HasSpeed and State do not allocate.
 #pragma once
 
-#include <deque>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -61,8 +64,14 @@ class ConveyorTracker {
 
   // One observation (pixel of the object's centre at stamp_s, seconds, increasing).
   Status AddObservation(const Eigen::Vector2d& pixel, double stamp_s);
-  void Reset() { samples_.clear(); misfits_ = 0; }
+  void Reset() {
+    samples_.clear();
+    pending_.clear();
+    misfits_ = 0;
+  }
 
+  // Whether State() succeeds now (enough samples for a line), without building its error.
+  bool HasSpeed() const;
   // The fitted state; fails with too few samples.
   Result<ConveyorState> State() const;
   // Position along the guide at time stamp_s (extrapolated along the fitted line).
@@ -79,8 +88,8 @@ class ConveyorTracker {
   ConveyorOptions options_;
   double length_ = 0;
   Eigen::Vector3d direction_ = Eigen::Vector3d::UnitX();
-  std::deque<Sample> samples_;
-  std::deque<Sample> pending_;  // consecutive misfits
+  std::vector<Sample> samples_;  // oldest first
+  std::vector<Sample> pending_;  // consecutive misfits
   int misfits_ = 0;
 };
 

@@ -49,6 +49,11 @@ double DepthAt(const DepthImageView& depth, int x, int y);
 // image is registered to it. Fails on a bad view, a degenerate ellipse, or too few valid samples.
 Result<DepthSample> SampleTopCentre(const Ellipse& ellipse, const DepthImageView& depth,
                                     const CameraModel& camera, const DepthSampleOptions& options = {});
+// The same for a loop: the depths go to `scratch`, which keeps its room between calls (reserve it
+// for the largest region, e.g. the image's pixel count, and it never grows); false on any failure,
+// without building a message (SampleTopCentre says why).
+bool TrySampleTopCentre(const Ellipse& ellipse, const DepthImageView& depth, const CameraModel& camera,
+                        const DepthSampleOptions& options, std::vector<double>* scratch, DepthSample* out);
 
 struct AveragerOptions {
   double outlier_k = 3.0;          // inlier gate in robust sigmas (1.4826 MAD)

@@ -20,8 +20,15 @@
 // conveyor, the first confirmed track near the guide's image segment rides it: its top centre's
 // pixel feeds the ConveyorTracker (speed, paper sec. V-B) and the grasp planner (grasp.h).
 //
-// Buffers (outputs, samples) are kept between frames; a bad input (size, stamp, depth view)
-// returns an error status naming it and leaves the loop as it was before the frame where possible.
+// The hot-path contract (as detect()'s): after the first frame, ProcessFrame() allocates nothing
+// (tests/test_robot_no_allocation.cc counts), throws nothing, and its work is bounded by the
+// detector's caps, the number of tracks and the rim samples' cap (RimSampleOptions::max_angles).
+// Every buffer (detector, tracker, rim and interior samples, per-track filters, the conveyor's
+// window, the caller's FrameOutput) is kept between frames, with room for 64 tracks and 256
+// detections from the start; only a frame bringing more than any before makes one grow, once.
+// Ordinary misses (a top without enough depth, a conveyor without a speed yet) build no message.
+// A bad input (size, stamp, depth view) returns an error status naming it and leaves the loop as
+// it was before the frame where possible.
 #pragma once
 
 #include <array>
@@ -138,6 +145,7 @@ class FrameLoop {
   Eigen::Vector3d t_wc_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d up_cam_ = Eigen::Vector3d::UnitZ();
   std::vector<Track3D> states_;
+  std::vector<double> interior_depths_;  // TrySampleTopCentre's scratch
 };
 
 }  // namespace ellipsekit::robot

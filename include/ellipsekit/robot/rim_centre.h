@@ -34,8 +34,10 @@
 // Covariance: the plane offset's variance (inlier height variance / inliers) along the centre ray;
 // the image error of the pole and the normal's error are not included.
 //
-// Frames: camera optical frame, metres. The sampler keeps its buffers: after the first call that
-// saw as many samples, Sample() does not allocate.
+// Frames: camera optical frame, metres. The sampler keeps its buffers, sized on the first call for
+// the most samples an outline can give (max_angles): TrySample() then never allocates, also when it
+// fails (the reason is kept; LastError() builds the message). Sample() allocates only the message
+// of a failure.
 #pragma once
 
 #include <array>
@@ -92,8 +94,16 @@ class RimCentreSampler {
   // The ellipse is in raw pixels of `camera`; the depth image is registered to it. Fails on a bad
   // view or ellipse, bad options, or too few rim samples (the message says how many).
   Result<RimSample> Sample(const Ellipse& ellipse, const DepthImageView& depth, const CameraModel& camera);
+  // The same without building a message: false on failure, *out untouched; LastError() says why.
+  bool TrySample(const Ellipse& ellipse, const DepthImageView& depth, const CameraModel& camera, RimSample* out);
+  // Why the last TrySample() failed (ok after a success).
+  Status LastError() const;
 
  private:
+  enum class Failure {
+    kNone, kBadView, kBadEllipse, kBadOptions, kBadNormal, kTooFewValid, kTooFewOnPlane, kTooFewSectors,
+    kEdgeOn, kBehind, kInner
+  };
   struct Pt {
     Eigen::Vector3d X;
     float h;
@@ -104,6 +114,9 @@ class RimCentreSampler {
   std::vector<Pt> pts_;
   std::vector<double> tmp_;
   std::vector<int> idx_;
+  Failure failure_ = Failure::kNone;
+  int fail_valid_ = 0, fail_total_ = 0, fail_sectors_ = 0;
+  Status inner_;  // kInner: the circle pose's or the projected centre's error
 };
 
 // Options of one top-centre estimate (the frame loop's choice).

@@ -7,6 +7,10 @@
 // Unassigned detections start tentative tracks, except where they overlap an established track
 // (a merge of two tops, or a weaker second contour of one; see Update); a track is confirmed after `confirm_hits` hits,
 // becomes lost when missed, and is deleted after `max_lost_s` without a hit (tentative: at once).
+//
+// Update() keeps its buffers (tracks, filters, the cost matrix, the assignment's) between frames:
+// it allocates only when a frame brings more detections or tracks than it has room for (room for
+// 64 tracks and 256 detections from the start), and then grows once.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "ellipsekit/robot/hungarian.h"
 #include "ellipsekit/robot/kalman.h"
 #include "ellipsekit/robot/messages.h"
 #include "ellipsekit/types.h"
@@ -51,7 +56,7 @@ struct Track {
 
 class EllipseTracker {
  public:
-  explicit EllipseTracker(TrackerOptions options = {}) : options_(options) {}
+  explicit EllipseTracker(TrackerOptions options = {});
 
   // One frame at time `stamp_s` (seconds, increasing). Returns an error for non-increasing time
   // or a degenerate detection (the frame is then ignored).
@@ -72,6 +77,9 @@ class EllipseTracker {
   TrackerOptions options_;
   std::vector<Track> tracks_;
   std::vector<Internal> filters_;
+  std::vector<double> cost_;      // tracks x detections, column-major
+  std::vector<char> det_used_;
+  AssignmentSolver solver_;
   std::int64_t next_id_ = 1;
   double last_stamp_ = 0;
   bool has_stamp_ = false;

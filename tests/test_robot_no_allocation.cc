@@ -1,0 +1,338 @@
+// The robot loop's hot-path contract (include/ellipsekit/robot/frame_loop.h): after the first frame,
+// FrameLoop::ProcessFrame() -- detect, track, 3-D rim centres, conveyor, grasp -- allocates nothing.
+//
+// This binary interposes the C allocator itself, the way tests/test_no_allocation.cc does (malloc,
+// calloc, realloc, aligned_alloc, posix_memalign, memalign forwarded to glibc's __libc_* entry
+// points), so operator new and every library's allocations count. Counting is on only while a
+// thread_local flag is set around the call under test; the detector runs on the SIMD backend (no
+// Vulkan driver threads). The first few counted allocations keep a backtrace, printed on failure.
+// Frames come from the scene generator (ray-cast images and depth of real container geometry),
+// rendered before counting starts.
+//
+// Not under AddressSanitizer or ThreadSanitizer (whose runtime owns malloc): the suite skips there.
+#include <execinfo.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "ellipsekit/robot/circle_pose.h"
+#include "ellipsekit/robot/frame_loop.h"
+#include "tools/scenes/scene_generator.h"
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define ELLIPSEKIT_COUNT_MALLOC 0
+#else
+#define ELLIPSEKIT_COUNT_MALLOC 1
+#endif
+
+namespace {
+
+std::atomic<long> g_count{0}, g_bytes{0};
+thread_local bool t_counting = false;
+thread_local bool t_in_hook = false;  // backtrace() may allocate: no recursion
+
+constexpr int kMaxTraces = 4, kTraceDepth = 32;
+void* g_traces[kMaxTraces][kTraceDepth];
+int g_trace_len[kMaxTraces];
+std::size_t g_trace_size[kMaxTraces];
+std::atomic<int> g_num_traces{0};
+
+void Record(std::size_t size) {
+  if (!t_counting || t_in_hook) return;
+  t_in_hook = true;
+  g_count.fetch_add(1, std::memory_order_relaxed);
+  g_bytes.fetch_add(static_cast<long>(size), std::memory_order_relaxed);
+  const int slot = g_num_traces.fetch_add(1);
+  if (slot < kMaxTraces) {
+    g_trace_len[slot] = backtrace(g_traces[slot], kTraceDepth);
+    g_trace_size[slot] = size;
+  }
+  t_in_hook = false;
+}
+
+}  // namespace
+
+#if ELLIPSEKIT_COUNT_MALLOC
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+void __libc_free(void*);
+
+void* malloc(std::size_t n) {
+  Record(n);
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t count, std::size_t n) {
+  Record(count * n);
+  return __libc_calloc(count, n);
+}
+void* realloc(void* p, std::size_t n) {
+  Record(n);
+  return __libc_realloc(p, n);
+}
+void* aligned_alloc(std::size_t alignment, std::size_t n) {
+  Record(n);
+  return __libc_memalign(alignment, n);
+}
+void* memalign(std::size_t alignment, std::size_t n) {
+  Record(n);
+  return __libc_memalign(alignment, n);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t n) {
+  Record(n);
+  void* p = __libc_memalign(alignment, n);
+  if (p == nullptr) return ENOMEM;
+  *out = p;
+  return 0;
+}
+void free(void* p) { __libc_free(p); }
+}  // extern "C"
+#endif
+
+namespace {
+
+namespace er = ellipsekit::robot;
+namespace sc = ellipsekit::scenes;
+
+struct Count {
+  long allocations = 0, bytes = 0;
+};
+
+template <class F>
+Count Counted(F&& f) {
+  g_count = 0;
+  g_bytes = 0;
+  g_num_traces = 0;
+  t_counting = true;
+  f();
+  t_counting = false;
+  return {g_count.load(), g_bytes.load()};
+}
+
+void PrintTraces() {
+  const int n = std::min(g_num_traces.load(), kMaxTraces);
+  for (int i = 0; i < n; ++i) {
+    std::fprintf(stderr, "  allocation %d (%zu bytes) from:\n", i + 1, g_trace_size[i]);
+    backtrace_symbols_fd(g_traces[i], g_trace_len[i], STDERR_FILENO);
+  }
+}
+
+// One rendered frame, owned.
+struct Frame {
+  double t = 0;
+  cv::Mat gray, depth_mm;
+};
+
+er::DepthImageView DepthView(const cv::Mat& depth_mm) {
+  er::DepthImageView dv;
+  dv.data = depth_mm.data;
+  dv.width = depth_mm.cols;
+  dv.height = depth_mm.rows;
+  dv.step = depth_mm.step[0];
+  dv.encoding = er::DepthEncoding::k16UC1;
+  return dv;
+}
+
+ellipsekit::ImageView View(const cv::Mat& gray) {
+  return {gray.ptr<std::uint8_t>(0), gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step[0])};
+}
+
+struct Sequence {
+  er::CameraModel camera;
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  std::vector<Frame> frames;
+  std::vector<int> truths;  // true tops per frame
+  std::optional<std::array<er::ConveyorReference, 2>> conveyor;
+};
+
+template <class Info>
+void SetRig(const Info& info, Sequence* s) {
+  s->camera = er::CameraModel::FromIntrinsics(info.K(0, 0), info.K(1, 1), info.K(0, 2), info.K(1, 2), {}, info.width,
+                                              info.height);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) s->T(r, c) = info.T_world_camera(r, c);
+}
+
+Eigen::Vector3d ToCamera(const Eigen::Matrix4d& T, const cv::Vec3d& w) {
+  return T.topLeftCorner<3, 3>().transpose() * (Eigen::Vector3d(w[0], w[1], w[2]) - T.topRightCorner<3, 1>());
+}
+
+// A can (recessed lid) riding the guide: the conveyor model and the grasp planner run too.
+Sequence ConveyorSequence(int frames) {
+  sc::ConveyorSceneOptions co;
+  co.speed_m_s = 0.05;
+  co.frames = frames;
+  co.container = sc::Container::kRecessedCan;
+  sc::ConveyorSequence info;
+  Sequence s;
+  EXPECT_TRUE(sc::RenderConveyorSequence(11, co, &info, [&](const sc::ConveyorFrame& f) {
+                s.frames.push_back({f.t, f.gray.clone(), f.depth_mm.clone()});
+                s.truths.push_back(1);
+                return ellipsekit::Status::Ok();
+              }).ok());
+  SetRig(info, &s);
+  std::array<er::ConveyorReference, 2> refs;
+  refs[0].point = Eigen::Vector3d(info.start_point[0], info.start_point[1], info.start_point[2]);
+  refs[0].pixel = Eigen::Vector2d(info.start_pixel[0], info.start_pixel[1]);
+  refs[0].camera_depth_z = ToCamera(s.T, info.start_point).z();
+  refs[1].point = Eigen::Vector3d(info.end_point[0], info.end_point[1], info.end_point[2]);
+  refs[1].pixel = Eigen::Vector2d(info.end_pixel[0], info.end_pixel[1]);
+  refs[1].camera_depth_z = ToCamera(s.T, info.end_point).z();
+  s.conveyor = refs;
+  return s;
+}
+
+// Two containers (open cup, jar, ...) standing or crossing: two tracks, births and deaths.
+Sequence CanSequence(std::uint64_t seed, sc::Container c0, sc::Container c1, double speed, int frames) {
+  sc::CanSceneOptions co;
+  co.frames = frames;
+  co.speed_m_s = speed;
+  co.containers = {c0, c1};
+  sc::CanSequence info;
+  Sequence s;
+  EXPECT_TRUE(sc::RenderCanSequence(seed, co, &info, [&](const sc::CanFrame& f) {
+                s.frames.push_back({f.t, f.gray.clone(), f.depth_mm.clone()});
+                s.truths.push_back(2);
+                return ellipsekit::Status::Ok();
+              }).ok());
+  SetRig(info, &s);
+  return s;
+}
+
+enum class DepthMode { kRimPlane, kInterior, kNone };
+
+// Runs the sequence through one FrameLoop: the first frame uncounted, every later one counted.
+// Expects zero allocations per later frame, and that the loop did its work (tracks with 3-D
+// positions; a grasp decision on the conveyor).
+void ExpectNoAllocationPerFrame(const Sequence& s, DepthMode mode, const char* what) {
+  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc; counted in the plain build";
+  ASSERT_GE(s.frames.size(), 3u);
+  er::FrameLoopOptions opt;
+  opt.detector.backend = ellipsekit::Backend::kSimd;
+  opt.T_world_camera = s.T;
+  opt.conveyor = s.conveyor;
+  opt.grasp.latency_s = 0.5;
+  opt.top_centre = mode == DepthMode::kInterior ? er::TopCentreMethod::kInteriorMedian : er::TopCentreMethod::kRimPlane;
+  opt.top_radius_m = 0.033;  // the circle pose where depth is missing or fails
+  er::FrameLoop loop(s.camera, opt);
+  if (!loop.status().ok() && opt.detector.backend == ellipsekit::Backend::kSimd)
+    GTEST_SKIP() << "no SIMD backend: " << loop.status().message();
+  er::FrameOutput out;
+  long total = 0, worst = 0;
+  int with_position = 0, grasps = 0, from_mode = 0;
+  const er::CentreSource expected = mode == DepthMode::kRimPlane   ? er::CentreSource::kRimPlane
+                                    : mode == DepthMode::kInterior ? er::CentreSource::kInteriorMedian
+                                                                   : er::CentreSource::kCirclePose;
+  for (std::size_t i = 0; i < s.frames.size(); ++i) {
+    const Frame& f = s.frames[i];
+    const er::DepthImageView dv = DepthView(f.depth_mm);
+    const er::DepthImageView* dp = mode == DepthMode::kNone ? nullptr : &dv;
+    ellipsekit::Status st;
+    const Count c = Counted([&] { st = loop.ProcessFrame(View(f.gray), dp, f.t, &out); });
+    ASSERT_TRUE(st.ok()) << st.message();
+    for (const er::TrackOutput& t : out.tracks) {
+      with_position += t.detected && t.has_position;
+      from_mode += t.detected && t.source == expected;
+    }
+    grasps += out.grasp.plan.decision == er::GraspDecision::kGrasp;
+    if (i == 0) {
+      std::printf("[robot-alloc] %s: first frame %ld allocations (%ld bytes)\n", what, c.allocations, c.bytes);
+      continue;
+    }
+    total += c.allocations;
+    worst = std::max(worst, c.allocations);
+    if (c.allocations != 0) {
+      std::fprintf(stderr, "ALLOCATION FOUND: %s, frame %zu: ProcessFrame allocated %ld times (%ld bytes); first "
+                           "backtraces:\n", what, i, c.allocations, c.bytes);
+      PrintTraces();
+    }
+    EXPECT_EQ(c.allocations, 0) << what << ", frame " << i << ": ProcessFrame allocated after the first frame";
+  }
+  std::printf("[robot-alloc] %s: frames 2-%zu: %ld allocations in all (%.2f per frame, worst frame %ld); %d track "
+              "outputs with a 3-D position, %d frames with a grasp decision\n",
+              what, s.frames.size(), total, static_cast<double>(total) / static_cast<double>(s.frames.size() - 1),
+              worst, with_position, grasps);
+  // The loop did its work: most frames give every top a 3-D position; the conveyor plans grasps.
+  int tops = 0;
+  for (int n : s.truths) tops += n;
+  EXPECT_GE(with_position, tops / 2) << what;
+  EXPECT_GE(from_mode, with_position / 2) << what << ": the centres should come from " << er::CentreSourceName(expected);
+  if (s.conveyor) EXPECT_GT(grasps, 0) << what;
+}
+
+TEST(RobotNoAllocation, ConveyorRecessedCanRimPlane) {
+  ExpectNoAllocationPerFrame(ConveyorSequence(24), DepthMode::kRimPlane, "conveyor, recessed can, rim plane");
+}
+
+TEST(RobotNoAllocation, ConveyorInteriorMedian) {
+  ExpectNoAllocationPerFrame(ConveyorSequence(16), DepthMode::kInterior, "conveyor, interior median");
+}
+
+TEST(RobotNoAllocation, ConveyorNoDepthCirclePose) {
+  ExpectNoAllocationPerFrame(ConveyorSequence(16), DepthMode::kNone, "conveyor, no depth (circle pose)");
+}
+
+TEST(RobotNoAllocation, StaticCupAndJar) {
+  ExpectNoAllocationPerFrame(CanSequence(102, sc::Container::kCupEmpty, sc::Container::kJar, 0, 8), DepthMode::kRimPlane,
+                             "static cup + jar");
+}
+
+TEST(RobotNoAllocation, CrossingFilledCupAndRecessedCan) {
+  ExpectNoAllocationPerFrame(CanSequence(22, sc::Container::kCupFilled, sc::Container::kRecessedCan, 0.1, 20),
+                             DepthMode::kRimPlane, "crossing filled cup + recessed can, 10 cm/s");
+}
+
+// The circle pose through lens distortion (the boundary is undistorted and refit in fixed storage).
+TEST(RobotNoAllocation, CirclePoseWithDistortion) {
+  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
+  const er::CameraModel cam =
+      er::CameraModel::FromIntrinsics(525, 525, 319.5, 239.5, {0.12, -0.25, 0.001, -0.002, 0.08}, 640, 480);
+  ellipsekit::Ellipse e;
+  e.cx = 400;
+  e.cy = 300;
+  e.a = 30;
+  e.b = 18;
+  e.theta = 0.2;
+  bool ok = false;
+  const Count c = Counted([&] { ok = er::CirclePoseByNormal(e, 0.033, cam, Eigen::Vector3d(0, -0.7, -0.7)).ok(); });
+  ASSERT_TRUE(ok);
+  if (c.allocations != 0) PrintTraces();
+  EXPECT_EQ(c.allocations, 0) << "CirclePoseByNormal with distortion allocated";
+}
+
+// The counter itself works (a hook that is not linked in would pass everything): operator new and
+// each C entry point count once.
+TEST(RobotNoAllocation, CounterSeesAllocations) {
+  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
+  int* p = nullptr;
+  void *m = nullptr, *k = nullptr, *a = nullptr;
+  const Count c = Counted([&] {
+    p = new int[100];
+    m = std::malloc(64);
+    k = std::calloc(4, 16);
+    m = std::realloc(m, 4096);
+    a = std::aligned_alloc(64, 128);
+  });
+  delete[] p;
+  std::free(m);
+  std::free(k);
+  std::free(a);
+  EXPECT_EQ(c.allocations, 5);
+}
+
+}  // namespace
