@@ -9,6 +9,8 @@
 //                                         input: scene (generated scene 0) | prasad (first image);
 //                                         items/s = curve points/s
 //   edge_stage/<backend>/<W>x<H>          gray in -> sign-classified edge map out; scalar | simd | vulkan
+//                                         (| vulkan_steps: with device timestamps per shader step,
+//                                         counters <step>_ms and device_ms; | vulkan_cold)
 //   arc_stage/<backend>/<input>           curves in -> polylines, splits, arc stats out (the three
 //                                         Arcs kernels chained); scalar | vulkan (warm, transfers in)
 //   opencv/<sobel|canny|blur_canny>/<W>x<H>
@@ -369,11 +371,19 @@ ek::VulkanEdgeStage* VulkanStage(std::string* why) {
 #endif
 
 // Warm (buffers and pipelines made by an untimed first Run); the time includes the transfers.
-void BM_EdgeStageVulkan(benchmark::State& st, Size s) {
+// steps: with the device timestamps around each shader step (VulkanEdgeStage::set_step_timing),
+// reported as counters device_ms and <step>_ms; they cost time of their own (on lavapipe about a
+// dispatch each), so the plain benchmark runs without them.
+void BM_EdgeStageVulkan(benchmark::State& st, Size s, bool steps) {
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   std::string why;
   ek::VulkanEdgeStage* vk = VulkanStage(&why);
   if (vk == nullptr) { st.SkipWithError(("Vulkan unavailable: " + why).c_str()); return; }
+  struct StepTiming {  // on for this benchmark only (the stage is shared)
+    ek::VulkanEdgeStage* vk;
+    ~StepTiming() { vk->set_step_timing(false); }
+  } timing{vk};
+  vk->set_step_timing(steps);
   Prepared& p = PreparedFor(s);
   const std::size_t n = static_cast<std::size_t>(p.w) * p.h;
   std::vector<std::int16_t> dx(n), dy(n);
@@ -391,16 +401,19 @@ void BM_EdgeStageVulkan(benchmark::State& st, Size s) {
   }
   if (st.error_occurred()) return;
   if (edges != p.edges) { st.SkipWithError("edge map differs from the scalar reference"); return; }
-  st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
-  // Device time per shader step (timestamps), e.g. "sobel_ms".
-  for (int s = 0; s < Stage::kNumSteps; ++s) {
-    st.counters[std::string(Stage::StepName(static_cast<Stage::Step>(s))) + "_ms"] =
-        benchmark::Counter(step_ms[s], benchmark::Counter::kAvgIterations);
+  if (steps) {
+    st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
+    // Device time per shader step (timestamps), e.g. "nms_ms".
+    for (int s = 0; s < Stage::kNumSteps; ++s) {
+      st.counters[std::string(Stage::StepName(static_cast<Stage::Step>(s))) + "_ms"] =
+          benchmark::Counter(step_ms[s], benchmark::Counter::kAvgIterations);
+    }
   }
   st.SetLabel(vk->device_name());
   SetRates(st, static_cast<std::int64_t>(n), 2LL * static_cast<std::int64_t>(n));
 #else
   (void)s;
+  (void)steps;
   st.SkipWithError("Vulkan backend not built");
 #endif
 }
@@ -594,7 +607,9 @@ void Register() {
     benchmark::RegisterBenchmark(("edge_stage/simd" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_EdgeStageCpu(st, kDefaultSimdTarget, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/vulkan" + tail).c_str(),
-                                 [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s); })->UseRealTime();
+                                 [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s, false); })->UseRealTime();
+    benchmark::RegisterBenchmark(("edge_stage/vulkan_steps" + tail).c_str(),
+                                 [s](benchmark::State& st) { BM_EdgeStageVulkan(st, s, true); })->UseRealTime();
     benchmark::RegisterBenchmark(("edge_stage/vulkan_cold" + tail).c_str(),
                                  [s](benchmark::State& st) { BM_EdgeStageVulkanCold(st, s); })->UseRealTime();
     benchmark::RegisterBenchmark(("opencv/sobel" + tail).c_str(),
@@ -606,12 +621,14 @@ void Register() {
   }
 
   // A 64x48 frame: almost no pixels, so what is left is each backend's fixed cost per frame (on
-  // Vulkan: a dispatch and barrier per step, the submit and the fence wait).
+  // Vulkan: the dispatches and barriers, the submit and the fence wait).
   static constexpr Size kTiny{64, 48};
   benchmark::RegisterBenchmark(("edge_stage/simd/" + SizeName(kTiny)).c_str(),
                                [](benchmark::State& st) { BM_EdgeStageCpu(st, kDefaultSimdTarget, kTiny); })->UseRealTime();
   benchmark::RegisterBenchmark(("edge_stage/vulkan/" + SizeName(kTiny)).c_str(),
-                               [](benchmark::State& st) { BM_EdgeStageVulkan(st, kTiny); })->UseRealTime();
+                               [](benchmark::State& st) { BM_EdgeStageVulkan(st, kTiny, false); })->UseRealTime();
+  benchmark::RegisterBenchmark(("edge_stage/vulkan_steps/" + SizeName(kTiny)).c_str(),
+                               [](benchmark::State& st) { BM_EdgeStageVulkan(st, kTiny, true); })->UseRealTime();
 
 }
 

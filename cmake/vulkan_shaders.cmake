@@ -1,12 +1,15 @@
 # Build-time SPIR-V: every shaders/<name>.comp is compiled by glslangValidator (Vulkan 1.1 target),
 # validated by spirv-val, and embedded as a uint32_t array in a generated header
 #   ${CMAKE_BINARY_DIR}/generated/shaders/<name>.spv.h   ->   const uint32_t k<Name>Spv[] = {...};
-# (e.g. kGaussianSpv, kCannyThresholdsSpv). No shader compiler is needed at run time.
+# (e.g. kNmsSpv, kHysteresisEdgeSignSpv). No shader compiler is needed at run time.
 #
 #   include(cmake/vulkan_shaders.cmake)
-#   ellipsekit_embed_vulkan_shaders(<target> <shader.comp>...)
-# adds the headers to <target> (so they are generated before it compiles) and puts
-# ${CMAKE_BINARY_DIR}/generated on its private include path: #include "shaders/gaussian.spv.h".
+#   ellipsekit_embed_vulkan_shaders(<target> <shader folder or a .comp file in it>...)
+# embeds every *.comp file of the named folders (a named file only names its folder, so a list of
+# files that is out of date, naming a shader since fused away or missing a new one, still embeds
+# exactly the shaders that exist), adds the headers to <target> (so they are generated before it
+# compiles) and puts ${CMAKE_BINARY_DIR}/generated on its private include path:
+# #include "shaders/nms.spv.h".
 # Sets ELLIPSEKIT_VULKAN_SHADER_TOOLS_FOUND in the caller's scope.
 find_program(ELLIPSEKIT_GLSLANG_VALIDATOR NAMES glslangValidator glslang)
 find_program(ELLIPSEKIT_SPIRV_VAL NAMES spirv-val)
@@ -22,9 +25,23 @@ function(ellipsekit_embed_vulkan_shaders target)
   endif()
   set(out_dir ${CMAKE_BINARY_DIR}/generated/shaders)
   file(MAKE_DIRECTORY ${out_dir})
+  set(dirs)
+  foreach(arg ${ARGN})
+    get_filename_component(abs ${arg} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+    if(NOT IS_DIRECTORY ${abs})
+      get_filename_component(abs ${abs} DIRECTORY)
+    endif()
+    list(APPEND dirs ${abs})
+  endforeach()
+  list(REMOVE_DUPLICATES dirs)
+  set(sources)
+  foreach(dir ${dirs})
+    file(GLOB found CONFIGURE_DEPENDS ${dir}/*.comp)
+    list(APPEND sources ${found})
+  endforeach()
+  list(SORT sources)
   set(headers)
-  foreach(src ${ARGN})
-    get_filename_component(abs ${src} ABSOLUTE BASE_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+  foreach(abs ${sources})
     get_filename_component(name ${abs} NAME_WE)
     # snake_case -> kCamelCaseSpv
     string(REPLACE "_" ";" parts ${name})
@@ -38,7 +55,7 @@ function(ellipsekit_embed_vulkan_shaders target)
     string(APPEND var "Spv")
     # Files a shader #includes (GL_GOOGLE_include_directive) are the .glsl files beside it.
     get_filename_component(src_dir ${abs} DIRECTORY)
-    file(GLOB includes ${src_dir}/*.glsl)
+    file(GLOB includes CONFIGURE_DEPENDS ${src_dir}/*.glsl)
     set(spv ${out_dir}/${name}.spv)
     set(header ${out_dir}/${name}.spv.h)
     add_custom_command(

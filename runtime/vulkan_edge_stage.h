@@ -1,17 +1,19 @@
-// The edge stage on a Vulkan compute device: gaussian? -> sobel -> histogram -> thresholds -> nms
-// -> hysteresis -> edge_sign, bit-identical to the scalar kernels (every step is integer; see
-// shaders/*.comp for each kernel's contract and data layout).
+// The edge stage on a Vulkan compute device, four dispatches per frame:
+//   gaussian_sobel (the optional Gaussian and the Sobel in one pass) -> canny_thresholds (the
+//   histogram, and the threshold selection by the workgroup that finishes last) -> nms ->
+//   hysteresis_edge_sign (edge tracking to its fixed point, then the sign classes, one workgroup),
+// bit-identical to the scalar kernels (every step is integer; see shaders/*.comp for each
+// kernel's contract and data layout).
 //
 // Per frame: the host writes the frame, with replicated borders, straight into a host-visible
-// storage buffer; one command buffer runs all stages (a barrier after each) and kRoundsPerSubmit
-// hysteresis dispatches, then edge_sign; the shaders write dx, dy and the edge map straight into
-// host-visible buffers, and the host copies their rows out. One submit and one fence wait per
-// frame; no staging copies. Thresholds are chosen on the device (the 64-bit product of the scalar
-// rule is folded into a host-side push constant).
-// Hysteresis runs on 32-pixel bit masks: each dispatch sweeps every strip to its own fixed point
-// and flags whether it changed anything; only when the last dispatch of the batch still changed
-// something does the host submit another batch (a dispatch that changes nothing proves the global
-// fixed point). Every non-final dispatch promotes a pixel, so width * height + 1 dispatches bound it.
+// storage buffer and submits a command buffer recorded once for the frame size and options (two
+// fills, the four dispatches, a barrier after each); the shaders write dx, dy and the edge map
+// straight into host-visible buffers, and the host copies their rows out. One submit and one
+// fence wait per frame; no staging copies. Thresholds are chosen on the device (the 64-bit
+// product of the scalar rule is folded into a host-side push constant).
+// On lavapipe the fixed cost per frame is the dispatches (each wakes the driver's worker threads)
+// and the device timestamps (as costly as a dispatch each, so off unless asked for); the command
+// recording and the copies of a small frame hardly count (docs/vulkan.md).
 //
 // Written for lavapipe (Mesa's CPU driver) as much as for GPUs: lavapipe runs a workgroup on one
 // CPU thread, 8 invocations per SIMD instruction, and every buffer access is a loop over those
@@ -37,10 +39,6 @@ namespace ellipsekit {
 
 class VulkanEdgeStage {
  public:
-  // Hysteresis dispatches per submit: typically one does the work and the next proves nothing
-  // changes; a third spares a resubmit (fence wait) when propagation crosses strips late.
-  static constexpr int kRoundsPerSubmit = 3;
-
   // kUnavailable with the reason when there is no Vulkan loader or usable device.
   static Status Create(std::unique_ptr<VulkanEdgeStage>* out);
   ~VulkanEdgeStage();
@@ -52,27 +50,35 @@ class VulkanEdgeStage {
   Status Run(const ImageView& image, const Options& options, std::int16_t* dx, std::int16_t* dy,
              std::uint8_t* edge_map);
 
-  // The steps the device time is split into (timestamps after each step's barrier); thresholds is
-  // the histogram and the threshold selection, hysteresis every round of every submit.
-  enum Step { kStepGaussian, kStepSobel, kStepThresholds, kStepNms, kStepHysteresis, kStepEdgeSign, kNumSteps };
+  // The steps (dispatches) the device time is split into (timestamps after each step's barrier).
+  enum Step { kStepGaussianSobel, kStepThresholds, kStepNms, kStepHysteresisEdgeSign, kNumSteps };
   static const char* StepName(Step s);
 
-  // Device time of the last Run (GPU timestamps, all submits summed; the host's row copies into
-  // and out of the host-visible buffers are not in it); -1 when the queue has no timestamps.
+  // Device timestamps around each step: off by default, because on lavapipe each timestamp costs
+  // about as much as a dispatch (docs/vulkan.md). Takes effect at the next Run.
+  void set_step_timing(bool on) { timing_ = on; }
+  // Device time of the last Run (GPU timestamps; the host's row copies into and out of the
+  // host-visible buffers are not in it); -1 when step timing is off or the queue has no timestamps.
   double last_device_ms() const { return last_device_ms_; }
   // The same split by step (sums to last_device_ms() but for the fill commands); -1 without
-  // timestamps.
+  // step timing.
   double last_step_device_ms(Step s) const { return last_step_ms_[s]; }
-  // Hysteresis dispatches the last Run recorded (multiples of kRoundsPerSubmit).
-  int last_hysteresis_rounds() const { return last_rounds_; }
   const std::string& device_name() const { return ctx_->device_name(); }
   // The stage's Vulkan context, for another stage to share (VulkanArcStage::Create).
   const std::shared_ptr<VulkanContext>& context() const { return ctx_; }
 
  private:
-  // kSobel reads the Gaussian output, kSobelRaw the frame (sobel.comp, FROM_BLURRED = 1 / 0).
-  enum Pipeline { kGaussian, kSobel, kSobelRaw, kHistogram, kSelect, kNms, kHysteresis, kEdgeSign, kNumPipelines };
-  static constexpr int kNumBindings = 9;
+  // kGaussianSobel blurs first, kSobel does not (gaussian_sobel.comp, BLUR = 1 / 0).
+  enum Pipeline { kGaussianSobel, kSobel, kThresholds, kNms, kHysteresisEdgeSign, kNumPipelines };
+  static constexpr int kNumBindings = 7;
+
+  // What the recorded command buffer was made for; Run re-records when the frame asks for other.
+  struct Recording {
+    int width = 0, height = 0;
+    bool blur = false, timed = false;
+    std::uint32_t need = 0, low_permille = 0, min_high = 0;  // canny_thresholds.comp's select
+    bool operator==(const Recording&) const = default;
+  };
 
   VulkanEdgeStage() = default;
   Status Init();
@@ -80,26 +86,26 @@ class VulkanEdgeStage {
   void ReleaseFrameBuffers();
   void Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t gx, std::uint32_t gy, const std::uint32_t* push);
   void Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t groups, const std::uint32_t* push);
-  // Timestamps go to queries kStepHysteresis + 1 and kStepEdgeSign + 1.
-  void RecordHysteresisAndOutput(VkCommandBuffer cb);
-  Status Submit(VkCommandBuffer cb);
+  Status Record(const Recording& rec);
 
   std::shared_ptr<VulkanContext> ctx_;
-  // Layouts, pipelines (indexed by Pipeline), the set, command buffers 0 (frame) and 1 (more
-  // hysteresis rounds), fence, timestamps. Declared after ctx_, so it is released before it.
+  // Layouts, pipelines (indexed by Pipeline), the set, command buffer 0 (the frame's, recorded
+  // once per Recording), fence, timestamps. Declared after ctx_, so it is released before it.
   VulkanProgram program_;
 
-  // Bindings 0..8: image (packed u8), blurred, dx (packed i16), dy, hist, thresholds, masks,
-  // flags, edges (packed u8). Host-visible, used in place (no staging): image, dx, dy, flags, edges.
+  // Bindings 0..6: image (packed u8, padded), dx (packed i16), dy, hist (bins + finished-group
+  // count), thresholds, masks, edges (packed u8). Host-visible, used in place (no staging):
+  // image, dx, dy, edges.
   VulkanBuffer buffers_[kNumBindings];
   int width_ = 0, height_ = 0;
+  Recording recorded_;  // width 0: nothing recorded
+  bool timing_ = false;
   std::uint32_t chunks_ = 0;           // 16-pixel chunks per row: ceil(width / 16)
   std::uint32_t padded_row_vec4_ = 0;  // uvec4 per row of the padded frame: chunks_ + 2
   std::uint32_t mask_words_ = 0;       // 32-pixel hysteresis mask words per row: ceil(width / 32)
   static constexpr std::uint32_t kPushWords = 6;
   double last_device_ms_ = -1;
-  double last_step_ms_[kNumSteps] = {-1, -1, -1, -1, -1, -1};
-  int last_rounds_ = 0;
+  double last_step_ms_[kNumSteps] = {-1, -1, -1, -1};
 };
 
 }  // namespace ellipsekit

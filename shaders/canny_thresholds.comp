@@ -1,34 +1,39 @@
 // canny_thresholds: the gradient-magnitude histogram and the automatic thresholds
-// (kernels/canny_thresholds.h). Integer only. One SPIR-V module, two pipelines (spec constant MODE):
+// (kernels/canny_thresholds.h), in one dispatch. Integer only.
 //
-// MODE 0, histogram: hist[m] += #{pixels with mag == m}, over the in-row pixels of every
-//   kRowStep-th row (kHistogramRowStep) of sobel.comp's packed int16 dx, dy (rows of pc.d uvec4;
-//   mag = |dx| + |dy|). Each workgroup counts 256 * 64 pixels into a shared histogram and adds its
-//   non-zero bins to binding 4 with atomics, so the counts are exact whatever the order. Binding 4
-//   must be zeroed before (vkCmdFillBuffer).
-// MODE 1, select (one workgroup): the scalar rule
+// Histogram: hist[m] += #{pixels with mag == m}, over the in-row pixels of every kRowStep-th row
+//   (kHistogramRowStep) of gaussian_sobel.comp's packed int16 dx, dy (rows of pc.d uvec4; mag = |dx| + |dy|).
+//   Each workgroup counts 256 * 64 pixels into a shared histogram and adds its non-zero bins to
+//   binding 3 with atomics, so the counts are exact whatever the order. Binding 3 (the bins and,
+//   after them, the count of finished workgroups) must be zeroed before (vkCmdFillBuffer).
+// Select, by the workgroup that finishes last (it counts itself in hist[kBins] after its bins,
+//   and the one that sees the count of all the others sees all their bins): the scalar rule
 //     high = max(min_high, smallest h with 1000 * #{mag <= h} >= high_permille * N),
 //     low  = high * low_permille / 1000,
 //   with the 64-bit product moved to the host: pc.a = need = ceil(high_permille * N / 1000), and
 //   1000 * below >= high_permille * N  <=>  below >= need  for integer below. No h qualifies -> 2040,
-//   as in the scalar walk. Writes params[0] = low, params[1] = high (binding 5) for nms.comp.
+//   as in the scalar walk. Writes params[0] = low, params[1] = high (binding 4) for nms.comp.
+//   One dispatch instead of a histogram and a select dispatch: on lavapipe a dispatch costs a
+//   wake-up of the driver's worker threads, more than a small frame's whole histogram.
 #version 450
 layout(local_size_x = 256) in;
-layout(constant_id = 0) const uint MODE = 0u;
 
 const uint kBins = 2041u;            // kMaxMagnitude + 1
 const uint kWordsPerThread = 8u;     // a workgroup counts 256 * 8 * 8 pixels per shared histogram
 const uint kBinsPerThread = 8u;      // 256 * 8 >= 2041
 const uint kRowStep = 4u;            // kHistogramRowStep (kernels/canny_thresholds.h)
 
-layout(std430, set = 0, binding = 2) readonly buffer Dx { uvec4 dx[]; };  // sobel.comp layout
-layout(std430, set = 0, binding = 3) readonly buffer Dy { uvec4 dy[]; };
-layout(std430, set = 0, binding = 4) buffer Hist { uint hist[]; };
-layout(std430, set = 0, binding = 5) buffer Thresholds { uint params[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Dx { uvec4 dx[]; };  // gaussian_sobel.comp layout
+layout(std430, set = 0, binding = 2) readonly buffer Dy { uvec4 dy[]; };
+// coherent: the last workgroup reads the bins the others added (their atomics) after it saw
+// their count.
+layout(std430, set = 0, binding = 3) coherent buffer Hist { uint hist[]; };
+layout(std430, set = 0, binding = 4) buffer Thresholds { uint params[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
 shared uint local_hist[kBins];
 shared uint partial[256];
+shared bool last_group;
 
 // Signed 16-bit values 0..3 / 4..7 of eight packed in a uvec4 (value 2k in the low half of word k).
 ivec4 Lo16(uvec4 v) { return ivec4(uvec4(v.xxyy) << uvec4(16u, 0u, 16u, 0u)) >> 16; }
@@ -65,6 +70,16 @@ void Histogram() {
     uint v = local_hist[b];
     if (v != 0u) atomicAdd(hist[b], v);
   }
+  // This group's bins, then its count (release); the group whose count completes the total reads
+  // every bin after it (acquire).
+  memoryBarrierBuffer();
+  barrier();
+  if (lid == 0u) {
+    uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+    last_group = atomicAdd(hist[kBins], 1u) == groups - 1u;
+  }
+  barrier();
+  memoryBarrierBuffer();
 }
 
 void Select() {
@@ -96,5 +111,6 @@ void Select() {
 }
 
 void main() {
-  if (MODE == 0u) Histogram(); else Select();
+  Histogram();
+  if (last_group) Select();  // the same value in every invocation of the group
 }

@@ -3,10 +3,10 @@
 //                          (ay << 15) > 79109 ax -> vertical neighbours (x, y-1), (x, y+1)
 //                          otherwise diagonal, s = (dx, dy same sign) ? 1 : -1: (x-s, y-1), (x+s, y+1)
 //   local max: mag > first and mag >= second (diagonal: > both); mag <= low is never an edge.
-// In: dx, dy as sobel.comp packs them (two int16 per uint, rows of pc.d = 4 * pc.b uvec4, i.e.
+// In: dx, dy as gaussian_sobel.comp packs them (two int16 per uint, rows of pc.d = 4 * pc.b uvec4, i.e.
 // whole mask words; values past the row end are don't-care), mag = |dx| + |dy| recomputed;
-// thresholds from binding 5 (canny_thresholds.comp).
-// Out (binding 6, the bit masks of hysteresis.comp): per row y and 32-pixel word s (pc.b words per
+// thresholds from binding 4 (canny_thresholds.comp).
+// Out (binding 5, the bit masks of hysteresis_edge_sign.comp): per row y and 32-pixel word s (pc.b words per
 // row), uvec2(weak or strong, strong), bit k = pixel x = 32 s + k; the outermost rows and columns
 // and the bits past the row end are 0.
 // One invocation: one mask word (32 pixels) of kRows rows, the three gradient rows carried in
@@ -14,10 +14,10 @@
 #version 450
 layout(local_size_x = 64) in;
 
-layout(std430, set = 0, binding = 2) readonly buffer Dx { uvec4 dx[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Dy { uvec4 dy[]; };
-layout(std430, set = 0, binding = 5) readonly buffer Thresholds { uint params[]; };
-layout(std430, set = 0, binding = 6) writeonly buffer Masks { uvec2 masks[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Dx { uvec4 dx[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Dy { uvec4 dy[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Thresholds { uint params[]; };
+layout(std430, set = 0, binding = 5) writeonly buffer Masks { uvec2 masks[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
 const uint kRows = 8u;

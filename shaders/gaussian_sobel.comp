@@ -1,0 +1,159 @@
+// gaussian_sobel: the optional 3x3 Gaussian (kernels/gaussian.h) and the 3x3 Sobel
+// (kernels/sobel.h) in one pass, the blurred rows kept in registers. Integer only, replicate
+// border at both steps, so bit-identical to the scalar gaussian then sobel:
+//   G = BLUR ? gaussian(src) : src, G(x, y) = G(clamp(x, 0, w-1), clamp(y, 0, h-1)) outside;
+//   gaussian(x, y) = (sum w_i w_j src(x+i, y+j) + 8) >> 4 with w = [1 2 1], src replicated;
+//   dx = sum_j w_j (G(x+1, y+j) - G(x-1, y+j)),  dy = sum_i w_i (G(x+i, y+1) - G(x+i, y-1)),
+//   |dx|, |dy| <= 1020 (mag = |dx| + |dy| is not stored: its readers recompute it, cheaper than a
+//   third plane of stores on lavapipe).
+// BLUR: specialisation constant 0 (1: Gaussian first, 0: Sobel of the frame as uploaded). A
+// constant, not a push constant: lavapipe runs both sides of a branch (masked).
+//
+// In (binding 0), "padded frame": packed bytes, rows of pc.b uvec4 = 16 pad bytes, then pc.c
+// chunks of 16 pixels, then 16 pad bytes; h + 2 rows, row r (-1..h) at uvec4 (r + 1) * pc.b. The
+// host fills the pads by replication (rows -1 / h, pixels -16..-1 and past the end), so no read
+// needs a border test. The blurred frame's own replicate border (G(-1, y) = G(0, y), not the blur
+// of the replicated pixel -1) is applied to the blurred values in registers.
+// Out: bindings 1 / 2: dx / dy (int16), packed two per uint (pixel 2k in the low half), rows of
+// pc.d uvec4 = 8 * pc.d elements (a whole number of 32-pixel hysteresis mask words, >= the pc.c
+// chunks written here; elements past the row end are don't-care). dx and dy are what the host
+// downloads.
+// One invocation: one 16-pixel chunk of kRows rows; the input rows it needs (three per output
+// row) are carried in registers, each loaded once (one uvec4 and two single words per row): wide
+// accesses matter on lavapipe, where each buffer access is a loop over the SIMD lanes.
+#version 450
+layout(local_size_x = 64) in;
+
+layout(std430, set = 0, binding = 0) readonly buffer Image { uvec4 image[]; };
+layout(std430, set = 0, binding = 1) writeonly buffer Dx { uvec4 dx[]; };
+layout(std430, set = 0, binding = 2) writeonly buffer Dy { uvec4 dy[]; };
+layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
+
+layout(constant_id = 0) const uint BLUR = 1u;
+const uint kRows = 8u;
+
+// 16 pixels of a row chunk (p0 = pixels 0..3, ...) and the pixels just left (l) and right (r) of
+// it; l2 / r2: the pixels two to the left / right (read only where BLUR needs them).
+struct Chunk { ivec4 p0, p1, p2, p3; int l2, l, r, r2; };
+
+ivec4 Bytes(uint word) { return ivec4((uvec4(word) >> uvec4(0u, 8u, 16u, 24u)) & 255u); }
+
+// Row `row` (-1..h) of the padded frame.
+Chunk Load(int row, uint cx) {
+  uint i = uint(row + 1) * pc.b + 1u + cx;
+  uvec4 q = image[i];
+  uint lw = image[i - 1u].w, rw = image[i + 1u].x;
+  Chunk c;
+  c.p0 = Bytes(q.x); c.p1 = Bytes(q.y); c.p2 = Bytes(q.z); c.p3 = Bytes(q.w);
+  c.l2 = int((lw >> 16u) & 255u);
+  c.l = int(lw >> 24u);
+  c.r = int(rw & 255u);
+  c.r2 = int((rw >> 8u) & 255u);
+  return c;
+}
+
+// The Gaussian of the middle row b (a above, c below) at pixels -1..16 of the chunk, with the
+// blurred frame's replicate border applied: pixel -1 of chunk 0 is pixel 0, pixels past w - 1
+// are pixel w - 1 (last_k: pixel w - 1 within the chunk; > 15 when the row goes on).
+Chunk Blur(Chunk a, Chunk b, Chunk c, uint cx, int last_k) {
+  ivec4 v0 = a.p0 + 2 * b.p0 + c.p0, v1 = a.p1 + 2 * b.p1 + c.p1;
+  ivec4 v2 = a.p2 + 2 * b.p2 + c.p2, v3 = a.p3 + 2 * b.p3 + c.p3;
+  int vl2 = a.l2 + 2 * b.l2 + c.l2, vl = a.l + 2 * b.l + c.l;
+  int vr = a.r + 2 * b.r + c.r, vr2 = a.r2 + 2 * b.r2 + c.r2;
+  Chunk o;
+  o.p0 = (ivec4(vl, v0.xyz) + 2 * v0 + ivec4(v0.yzw, v1.x) + 8) >> 4;
+  o.p1 = (ivec4(v0.w, v1.xyz) + 2 * v1 + ivec4(v1.yzw, v2.x) + 8) >> 4;
+  o.p2 = (ivec4(v1.w, v2.xyz) + 2 * v2 + ivec4(v2.yzw, v3.x) + 8) >> 4;
+  o.p3 = (ivec4(v2.w, v3.xyz) + 2 * v3 + ivec4(v3.yzw, vr) + 8) >> 4;
+  o.l = cx == 0u ? o.p0.x : (vl2 + 2 * vl + v0.x + 8) >> 4;
+  o.r = (v3.w + 2 * vr + vr2 + 8) >> 4;
+  o.l2 = 0;
+  o.r2 = 0;
+  if (last_k <= 15) {
+    // The row ends inside this chunk: pixels past it repeat pixel w - 1.
+    ivec4 k0 = ivec4(0, 1, 2, 3);
+    ivec4 at = mix(ivec4(0), o.p0, equal(k0, ivec4(last_k))) + mix(ivec4(0), o.p1, equal(k0 + 4, ivec4(last_k))) +
+               mix(ivec4(0), o.p2, equal(k0 + 8, ivec4(last_k))) + mix(ivec4(0), o.p3, equal(k0 + 12, ivec4(last_k)));
+    int end = at.x + at.y + at.z + at.w;
+    o.p0 = mix(o.p0, ivec4(end), greaterThan(k0, ivec4(last_k)));
+    o.p1 = mix(o.p1, ivec4(end), greaterThan(k0 + 4, ivec4(last_k)));
+    o.p2 = mix(o.p2, ivec4(end), greaterThan(k0 + 8, ivec4(last_k)));
+    o.p3 = mix(o.p3, ivec4(end), greaterThan(k0 + 12, ivec4(last_k)));
+    o.r = end;
+  }
+  return o;
+}
+
+// [1 2 1] along the row: 16 values from the chunk and its two neighbours.
+void Smooth(Chunk c, out ivec4 s0, out ivec4 s1, out ivec4 s2, out ivec4 s3) {
+  s0 = ivec4(c.l, c.p0.xyz) + 2 * c.p0 + ivec4(c.p0.yzw, c.p1.x);
+  s1 = ivec4(c.p0.w, c.p1.xyz) + 2 * c.p1 + ivec4(c.p1.yzw, c.p2.x);
+  s2 = ivec4(c.p1.w, c.p2.xyz) + 2 * c.p2 + ivec4(c.p2.yzw, c.p3.x);
+  s3 = ivec4(c.p2.w, c.p3.xyz) + 2 * c.p3 + ivec4(c.p3.yzw, c.r);
+}
+
+// Eight 16-bit values (two ivec4) packed into a uvec4, value 2k in the low half of word k.
+uvec4 Pack16(ivec4 a, ivec4 b) {
+  uvec4 lo = uvec4(a.x, a.z, b.x, b.z) & 0xffffu, hi = uvec4(a.y, a.w, b.y, b.w) & 0xffffu;
+  return lo | (hi << 16u);
+}
+
+// dx, dy of output row y from the Sobel input rows a (y - 1), b (y), c (y + 1).
+void Store(int y, uint cx, Chunk a, Chunk b, Chunk c) {
+  ivec4 sa0, sa1, sa2, sa3, sc0, sc1, sc2, sc3;
+  Smooth(a, sa0, sa1, sa2, sa3);
+  Smooth(c, sc0, sc1, sc2, sc3);
+  // Column sums [1 2 1]^T, then their difference one pixel right minus one pixel left.
+  ivec4 v0 = a.p0 + 2 * b.p0 + c.p0, v1 = a.p1 + 2 * b.p1 + c.p1;
+  ivec4 v2 = a.p2 + 2 * b.p2 + c.p2, v3 = a.p3 + 2 * b.p3 + c.p3;
+  int vl = a.l + 2 * b.l + c.l, vr = a.r + 2 * b.r + c.r;
+  ivec4 gx0 = ivec4(v0.yzw, v1.x) - ivec4(vl, v0.xyz);
+  ivec4 gx1 = ivec4(v1.yzw, v2.x) - ivec4(v0.w, v1.xyz);
+  ivec4 gx2 = ivec4(v2.yzw, v3.x) - ivec4(v1.w, v2.xyz);
+  ivec4 gx3 = ivec4(v3.yzw, vr) - ivec4(v2.w, v3.xyz);
+  uint o = uint(y) * pc.d + 2u * cx;
+  dx[o] = Pack16(gx0, gx1);
+  dx[o + 1u] = Pack16(gx2, gx3);
+  dy[o] = Pack16(sc0 - sa0, sc1 - sa1);
+  dy[o + 1u] = Pack16(sc2 - sa2, sc3 - sa3);
+}
+
+void main() {
+  uint id = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
+  uint cx = id % pc.c, block = id / pc.c;
+  int h = int(pc.height);
+  int y0 = int(block * kRows);
+  if (y0 >= h) return;
+  int y1 = min(y0 + int(kRows), h);
+  if (BLUR == 1u) {
+    int last_k = int(pc.width) - 1 - int(16u * cx);
+    // Frame rows i0..i3 = y - 2 .. y + 1 (clamped to the padded rows -1..h); blurred rows
+    // ga, gb = y - 1, y (clamped to 0..h-1: the blurred frame's replicate border).
+    Chunk i1 = Load(max(y0 - 2, -1), cx), i2 = Load(y0 - 1, cx), i3 = Load(y0, cx);
+    Chunk ga = Blur(i1, i2, i3, cx, last_k);  // blurred row y0 - 1 (when y0 > 0)
+    i1 = i2;
+    i2 = i3;
+    i3 = Load(y0 + 1, cx);
+    Chunk gb = Blur(i1, i2, i3, cx, last_k);  // blurred row y0
+    if (y0 == 0) ga = gb;
+    for (int y = y0; y < y1; ++y) {
+      // Blurred row y + 1 from frame rows y .. y + 2; past the last row it repeats row h - 1.
+      i1 = i2;
+      i2 = i3;
+      i3 = Load(min(y + 2, h), cx);
+      Chunk gc = y + 1 < h ? Blur(i1, i2, i3, cx, last_k) : gb;
+      Store(y, cx, ga, gb, gc);
+      ga = gb;
+      gb = gc;
+    }
+  } else {
+    // The padded frame's rows -1..h are the replicate border: rows y - 1, y, y + 1 as they are.
+    Chunk a = Load(y0 - 1, cx), b = Load(y0, cx);
+    for (int y = y0; y < y1; ++y) {
+      Chunk c = Load(y + 1, cx);
+      Store(y, cx, a, b, c);
+      a = b;
+      b = c;
+    }
+  }
+}

@@ -1,0 +1,158 @@
+// hysteresis_edge_sign: the body of hysteresis_edge_sign.comp and hysteresis_edge_sign_rmw.comp,
+// which define the atomic accessors NeighbourEdges(index) and StoreEdges(index, word) of binding 5
+// and PassBarrier() (a workgroup barrier that makes the buffer and shared writes before it visible
+// after it), include this file, then define SetPassChanged(slot).
+//
+// Two kernels in one dispatch of ONE workgroup: Canny edge tracking (kernels/hysteresis.h) on bit
+// masks to its global fixed point, then the gradient-sign class of every edge pixel
+// (kernels/edge_sign.h). One workgroup, so the fixed point is proved inside the dispatch (a
+// workgroup barrier is the only device-wide synchronisation a shader has): no host loop, no
+// second submit, no flags.
+//
+// Hysteresis contract reached: a pixel is an edge exactly when it is weak or strong and
+// 8-connected through weak/strong pixels to a strong one. Binding 5 holds, per row y and 32-pixel
+// word s (row-major, pc.b words per row), uvec2(candidate, edge): bit k of a word is pixel
+// x = 32 s + k; candidate = weak or strong (nms.comp), edge = strong or reached. Padding bits are 0.
+//
+// Invocation i owns the columns of words (32-pixel strips, all rows) s = i, i + 64, ... and, in
+// each pass, sweeps each of them down, then up, until that strip changes no more (one sweep
+// carries an edge along the whole strip; see Sweep; every repeat promotes a pixel of the strip,
+// so 32 * height + 1 repeats bound it). 8-connectivity inside one row is plain left/right adjacency, so a row's candidate
+// runs are flooded with a Kogge-Stone fill. The only write is "candidate becomes edge" with an
+// edge neighbour, which is monotone, so stale reads of a neighbour strip (written concurrently in
+// the same pass) only delay a promotion, never make a wrong one. After each pass a barrier makes
+// every write visible to the whole workgroup; a pass in which no invocation changed anything read
+// only final values, so it is a fixed point of the global rule, i.e. the contract, and the loop
+// ends (the decision is read from shared memory after the barrier, so it is uniform). Every pass
+// that does not end the loop promotes a pixel, so width * height + 1 passes bound it.
+// The edge words are the only memory one invocation writes while others read it: those accesses
+// are atomic (NeighbourEdges / StoreEdges), so there is no data race. hysteresis_edge_sign.comp
+// does them as relaxed atomic loads and stores under the Vulkan memory model (plain loads and
+// stores on most hardware); hysteresis_edge_sign_rmw.comp, for devices without
+// vulkanMemoryModel, as atomicOr.
+//
+// Edge sign: out = 1 when edge and dx * dy > 0, 2 when edge and dx * dy < 0, else 0
+// (|dx * dy| <= 1020^2). In: bindings 1 / 2 (dx / dy as gaussian_sobel.comp packs them, rows of pc.d
+// uvec4). Out: binding 6, packed bytes (4 pixels per uint, little-endian), rows of 32 * pc.b
+// bytes (whole mask words); only words with an edge pixel are written: the host zeroes the buffer
+// before the dispatch (vkCmdFillBuffer), which is cheaper than storing the empty words here.
+//
+// 64 invocations: lavapipe runs one workgroup on one CPU thread, 8 lanes per SIMD instruction.
+layout(local_size_x = 64) in;
+
+layout(std430, set = 0, binding = 1) readonly buffer Dx { uvec4 dx[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Dy { uvec4 dy[]; };
+layout(std430, set = 0, binding = 6) writeonly buffer Edges { uvec4 edges[]; };
+layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
+
+// Per pass p, slot p % 3: non-zero when an invocation changed something in pass p. Slot
+// (p + 1) % 3 is cleared during pass p (its last readers passed the barrier of pass p - 1, its
+// next writers run after the barrier of pass p).
+shared uint pass_changed[3];
+// Sets pass_changed[slot] to 1 atomically (defined by the including shader, after this file).
+void SetPassChanged(uint slot);
+
+// Bits of `seed` grown along the runs of `cand` that contain them (seed is a subset of cand),
+// both directions, in log2(32) steps per direction.
+uint FillRuns(uint seed, uint cand) {
+  uint up = seed, gu = cand, dn = seed, gd = cand;
+  up |= gu & (up << 1u);  gu &= gu << 1u;   dn |= gd & (dn >> 1u);  gd &= gd >> 1u;
+  up |= gu & (up << 2u);  gu &= gu << 2u;   dn |= gd & (dn >> 2u);  gd &= gd >> 2u;
+  up |= gu & (up << 4u);  gu &= gu << 4u;   dn |= gd & (dn >> 4u);  gd &= gd >> 4u;
+  up |= gu & (up << 8u);  gu &= gu << 8u;   dn |= gd & (dn >> 8u);  gd &= gd >> 8u;
+  up |= gu & (up << 16u);                   dn |= gd & (dn >> 16u);
+  return up | dn;
+}
+
+// One sweep over the strip's rows, from row `start` in direction `dir` (+1 down, -1 up). A row
+// step promotes the candidates touching an edge pixel in the row before (already updated), the
+// row itself or the row after, the neighbour strips' bits 31 / 0 included, then floods the row's
+// candidate runs. Loads run one row ahead and are carried, so a step does three loads and no
+// data-dependent ones (lavapipe executes both sides of a branch, masked, so "rare" loads cost
+// as much as common ones). ls / rs: the neighbour strips (clamped), lm / rm: ~0 when they exist.
+void Sweep(int start, int dir, uint s, uint ls, uint rs, uint lm, uint rm, uint wpr, int h, inout bool changed) {
+  uvec2 cur = masks[uint(start) * wpr + s];
+  uint lcur = NeighbourEdges(uint(start) * wpr + ls) & lm, rcur = NeighbourEdges(uint(start) * wpr + rs) & rm;
+  uint prev = 0u, lprev = 0u, rprev = 0u;
+  for (int i = 0; i < h; ++i) {
+    int y = start + i * dir, ya = y + dir;
+    uint inside = (ya >= 0 && ya < h) ? ~0u : 0u;
+    uint row = uint(clamp(ya, 0, h - 1)) * wpr;
+    uvec2 nxt = masks[row + s] & uvec2(inside);
+    uint lnx = NeighbourEdges(row + ls) & lm & inside, rnx = NeighbourEdges(row + rs) & rm & inside;
+    uint v = prev | cur.y | nxt.y;
+    uint reach = v | (v << 1u) | (v >> 1u) | ((lprev | lcur | lnx) >> 31u) | (((rprev | rcur | rnx) & 1u) << 31u);
+    uint grown = cur.x & ~cur.y & reach;
+    uint e = cur.y;
+    if (grown != 0u) {
+      e = FillRuns(e | grown, cur.x);
+      StoreEdges(uint(y) * wpr + s, e);
+      changed = true;
+    }
+    prev = e;
+    lprev = lcur; lcur = lnx;
+    rprev = rcur; rcur = rnx;
+    cur = nxt;
+  }
+}
+
+// Classes of 4 pixels (edge bits in `bits`, values sign-extended from their 16-bit halves)
+// packed into the bytes of one word.
+uint Classes(uvec4 gx, uvec4 gy, uint bits) {
+  ivec4 p = ivec4(gx) * ivec4(gy);
+  uvec4 cls = mix(mix(uvec4(0u), uvec4(2u), lessThan(p, ivec4(0))), uvec4(1u), greaterThan(p, ivec4(0)));
+  cls *= (uvec4(bits) >> uvec4(0u, 1u, 2u, 3u)) & 1u;  // 0 off the edge
+  return cls.x | (cls.y << 8u) | (cls.z << 16u) | (cls.w << 24u);
+}
+
+// Signed 16-bit values 0..3 / 4..7 of eight packed in a uvec4 (value 2k in the low half of word k).
+uvec4 Lo(uvec4 v) { return uvec4(ivec4(uvec4(v.xxyy) << uvec4(16u, 0u, 16u, 0u)) >> 16); }
+uvec4 Hi(uvec4 v) { return uvec4(ivec4(uvec4(v.zzww) << uvec4(16u, 0u, 16u, 0u)) >> 16); }
+
+// The 32 classes of edge word `e` (row y, strip s) as two uvec4 (16 pixels each).
+void StoreClasses(uint y, uint s, uint e) {
+  uint q = y * pc.d + 4u * s;
+  uvec4 x0 = dx[q], x1 = dx[q + 1u], x2 = dx[q + 2u], x3 = dx[q + 3u];
+  uvec4 y0 = dy[q], y1 = dy[q + 1u], y2 = dy[q + 2u], y3 = dy[q + 3u];
+  uint o = 2u * (y * pc.b + s);
+  edges[o] = uvec4(Classes(Lo(x0), Lo(y0), e), Classes(Hi(x0), Hi(y0), e >> 4u),
+                   Classes(Lo(x1), Lo(y1), e >> 8u), Classes(Hi(x1), Hi(y1), e >> 12u));
+  edges[o + 1u] = uvec4(Classes(Lo(x2), Lo(y2), e >> 16u), Classes(Hi(x2), Hi(y2), e >> 20u),
+                        Classes(Lo(x3), Lo(y3), e >> 24u), Classes(Hi(x3), Hi(y3), e >> 28u));
+}
+
+void main() {
+  uint lid = gl_LocalInvocationID.x;
+  uint wpr = pc.b;
+  int h = int(pc.height);
+  if (lid < 3u) pass_changed[lid] = 0u;
+  barrier();
+  uint bound = pc.width * pc.height;  // passes that continue each promote a pixel
+  for (uint pass = 0u; pass <= bound; ++pass) {
+    bool changed = false;
+    for (uint s = lid; s < wpr; s += gl_WorkGroupSize.x) {
+      uint ls = s > 0u ? s - 1u : s, rs = s + 1u < wpr ? s + 1u : s;
+      uint lm = s > 0u ? ~0u : 0u, rm = s + 1u < wpr ? ~0u : 0u;
+      // The strip to its own fixed point (given what it reads of its neighbours) before the
+      // barrier: a chain along one strip costs sweeps of that strip only, not passes of all.
+      for (uint local = 0u; local <= 32u * pc.height; ++local) {
+        bool again = false;
+        Sweep(0, 1, s, ls, rs, lm, rm, wpr, h, again);
+        Sweep(h - 1, -1, s, ls, rs, lm, rm, wpr, h, again);
+        if (!again) break;
+        changed = true;
+      }
+    }
+    if (changed) SetPassChanged(pass % 3u);
+    if (lid == 0u) pass_changed[(pass + 1u) % 3u] = 0u;
+    PassBarrier();
+    if (pass_changed[pass % 3u] == 0u) break;  // the same value for every invocation
+  }
+  // Final edge words: no invocation writes them any more, and the last barrier made them visible.
+  for (uint s = lid; s < wpr; s += gl_WorkGroupSize.x) {
+    for (uint y = 0u; y < pc.height; ++y) {
+      uint e = masks[y * wpr + s].y;
+      if (e != 0u) StoreClasses(y, s, e);
+    }
+  }
+}
