@@ -7,8 +7,7 @@
 #include <string>
 
 #include "kernels/canny_thresholds.h"
-#include "shaders/canny_thresholds.spv.h"
-#include "shaders/gaussian_sobel.spv.h"
+#include "shaders/gaussian_sobel_thresholds.spv.h"
 #include "shaders/hysteresis_edge_sign.spv.h"
 #include "shaders/hysteresis_edge_sign_rmw.spv.h"
 #include "shaders/nms.spv.h"
@@ -19,9 +18,8 @@ namespace {
 
 enum Binding : int { kImage, kDx, kDy, kHist, kThresholds, kMasks, kEdges };
 
-constexpr std::uint32_t kGroup = 64;               // local_size_x of gaussian_sobel, nms
-constexpr std::uint32_t kRowsPerInvocation = 8;    // kRows of gaussian_sobel.comp, nms.comp
-constexpr std::uint32_t kHistVec4PerGroup = 256 * 8;  // canny_thresholds.comp: 8 pixels each
+constexpr std::uint32_t kGroup = 64;             // local_size_x of gaussian_sobel_thresholds, nms
+constexpr std::uint32_t kRowsPerInvocation = 8;  // kRows of gaussian_sobel_thresholds.comp, nms.comp
 constexpr std::uint32_t kMaxGroups = 65535;      // guaranteed maxComputeWorkGroupCount per axis
 
 Status VkFail(const char* what, VkResult r) { return VulkanFailure(what, r); }
@@ -43,11 +41,10 @@ Status VulkanEdgeStage::Create(std::unique_ptr<VulkanEdgeStage>* out) {
 }
 
 Status VulkanEdgeStage::Init() {
-  // constant_id 0: gaussian_sobel.comp BLUR (ignored by the others).
+  // constant_id 0: gaussian_sobel_thresholds.comp BLUR.
   const VulkanProgram::Shader shaders[kNumPipelines] = {
-      {kGaussianSobelSpv, sizeof(kGaussianSobelSpv), true, 1},
-      {kGaussianSobelSpv, sizeof(kGaussianSobelSpv), true, 0},
-      {kCannyThresholdsSpv, sizeof(kCannyThresholdsSpv)},
+      {kGaussianSobelThresholdsSpv, sizeof(kGaussianSobelThresholdsSpv), true, 1},
+      {kGaussianSobelThresholdsSpv, sizeof(kGaussianSobelThresholdsSpv), true, 0},
       {kNmsSpv, sizeof(kNmsSpv)},
       // Relaxed atomics under the Vulkan memory model where the device has it, else atomicOr.
       ctx_->memory_model()
@@ -116,8 +113,7 @@ static_assert(VulkanEdgeStage::kNumSteps + 1 <= VulkanProgram::kMaxTimestamps, "
 
 const char* VulkanEdgeStage::StepName(Step s) {
   switch (s) {
-    case kStepGaussianSobel: return "gaussian_sobel";
-    case kStepThresholds: return "canny_thresholds";
+    case kStepGaussianSobelThresholds: return "gaussian_sobel_thresholds";
     case kStepNms: return "nms";
     case kStepHysteresisEdgeSign: return "hysteresis_edge_sign";
     case kNumSteps: break;
@@ -154,17 +150,12 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   vk.vkCmdFillBuffer(cb, buffers_[kEdges].buffer, 0, VK_WHOLE_SIZE, 0u);
   program_.Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
   const std::uint32_t plane_row_vec4 = 4 * mask_words_;
-  const std::uint32_t frame_push[6] = {uw, uh, 0, padded_row_vec4_, chunks_, plane_row_vec4};
-  Dispatch1D(cb, rec.blur ? kGaussianSobel : kSobel, chunk_groups, frame_push);
+  const std::uint32_t frame_push[kPushWords] = {uw,      uh,      rec.need,         padded_row_vec4_,
+                                                chunks_, plane_row_vec4, rec.low_permille, rec.min_high};
+  Dispatch1D(cb, rec.blur ? kGaussianSobelThresholds : kSobelThresholds, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  timestamp(cb, kStepGaussianSobel);
-  const std::uint32_t thresholds_push[6] = {uw, uh, rec.need, rec.low_permille, rec.min_high, plane_row_vec4};
-  Dispatch1D(cb, kThresholds,
-             CeilDiv(static_cast<std::uint64_t>(plane_row_vec4) * HistogramRows(rec.height), kHistVec4PerGroup),
-             thresholds_push);
-  program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  const std::uint32_t mask_push[6] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4};
-  timestamp(cb, kStepThresholds);
+  timestamp(cb, kStepGaussianSobelThresholds);
+  const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, 0, 0};
   Dispatch1D(cb, kNms, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepNms);
@@ -188,7 +179,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   const int w = width_, h = height_;
   const std::uint64_t counted = static_cast<std::uint64_t>(w) * HistogramRows(h);  // histogram's N
 
-  // Upload into the padded frame of shaders/gaussian_sobel.comp: 16 pad bytes, the row, the rest of the
+  // Upload into the padded frame of shaders/gaussian_sobel_thresholds.comp: 16 pad bytes, the row, the rest of the
   // row's chunks and 16 more pad bytes, all pads repeating the nearest pixel; rows -1 and h repeat
   // rows 0 and h - 1. That is the replicate border, so the shaders need no border tests.
   const std::size_t row_bytes = 16 * static_cast<std::size_t>(padded_row_vec4_);

@@ -1,13 +1,13 @@
-// The edge stage on a Vulkan compute device, four dispatches per frame:
-//   gaussian_sobel (the optional Gaussian and the Sobel in one pass) -> canny_thresholds (the
-//   histogram, and the threshold selection by the workgroup that finishes last) -> nms ->
+// The edge stage on a Vulkan compute device, three dispatches per frame:
+//   gaussian_sobel_thresholds (the optional Gaussian, the Sobel and the magnitude histogram in one
+//   pass; the workgroup that finishes last chooses the thresholds) -> nms ->
 //   hysteresis_edge_sign (edge tracking to its fixed point, then the sign classes, one workgroup),
 // bit-identical to the scalar kernels (every step is integer; see shaders/*.comp for each
 // kernel's contract and data layout).
 //
 // Per frame: the host writes the frame, with replicated borders, straight into a host-visible
 // storage buffer and submits a command buffer recorded once for the frame size and options (two
-// fills, the four dispatches, a barrier after each); the shaders write dx, dy and the edge map
+// fills, the three dispatches, a barrier after each); the shaders write dx, dy and the edge map
 // straight into host-visible buffers, and the host copies their rows out. One submit and one
 // fence wait per frame; no staging copies. Thresholds are chosen on the device (the 64-bit
 // product of the scalar rule is folded into a host-side push constant).
@@ -51,7 +51,7 @@ class VulkanEdgeStage {
              std::uint8_t* edge_map);
 
   // The steps (dispatches) the device time is split into (timestamps after each step's barrier).
-  enum Step { kStepGaussianSobel, kStepThresholds, kStepNms, kStepHysteresisEdgeSign, kNumSteps };
+  enum Step { kStepGaussianSobelThresholds, kStepNms, kStepHysteresisEdgeSign, kNumSteps };
   static const char* StepName(Step s);
 
   // Device timestamps around each step: off by default, because on lavapipe each timestamp costs
@@ -68,15 +68,15 @@ class VulkanEdgeStage {
   const std::shared_ptr<VulkanContext>& context() const { return ctx_; }
 
  private:
-  // kGaussianSobel blurs first, kSobel does not (gaussian_sobel.comp, BLUR = 1 / 0).
-  enum Pipeline { kGaussianSobel, kSobel, kThresholds, kNms, kHysteresisEdgeSign, kNumPipelines };
+  // kGaussianSobelThresholds blurs first, kSobelThresholds does not (BLUR = 1 / 0).
+  enum Pipeline { kGaussianSobelThresholds, kSobelThresholds, kNms, kHysteresisEdgeSign, kNumPipelines };
   static constexpr int kNumBindings = 7;
 
   // What the recorded command buffer was made for; Run re-records when the frame asks for other.
   struct Recording {
     int width = 0, height = 0;
     bool blur = false, timed = false;
-    std::uint32_t need = 0, low_permille = 0, min_high = 0;  // canny_thresholds.comp's select
+    std::uint32_t need = 0, low_permille = 0, min_high = 0;  // the thresholds' push constants
     bool operator==(const Recording&) const = default;
   };
 
@@ -103,9 +103,9 @@ class VulkanEdgeStage {
   std::uint32_t chunks_ = 0;           // 16-pixel chunks per row: ceil(width / 16)
   std::uint32_t padded_row_vec4_ = 0;  // uvec4 per row of the padded frame: chunks_ + 2
   std::uint32_t mask_words_ = 0;       // 32-pixel hysteresis mask words per row: ceil(width / 32)
-  static constexpr std::uint32_t kPushWords = 6;
+  static constexpr std::uint32_t kPushWords = 8;
   double last_device_ms_ = -1;
-  double last_step_ms_[kNumSteps] = {-1, -1, -1, -1};
+  double last_step_ms_[kNumSteps] = {-1, -1, -1};
 };
 
 }  // namespace ellipsekit

@@ -32,7 +32,7 @@
 // vulkanMemoryModel, as atomicOr.
 //
 // Edge sign: out = 1 when edge and dx * dy > 0, 2 when edge and dx * dy < 0, else 0
-// (|dx * dy| <= 1020^2). In: bindings 1 / 2 (dx / dy as gaussian_sobel.comp packs them, rows of pc.d
+// (|dx * dy| <= 1020^2). In: bindings 1 / 2 (dx / dy as gaussian_sobel_thresholds.comp packs them, rows of pc.d
 // uvec4). Out: binding 6, packed bytes (4 pixels per uint, little-endian), rows of 32 * pc.b
 // bytes (whole mask words); only words with an edge pixel are written: the host zeroes the buffer
 // before the dispatch (vkCmdFillBuffer), which is cheaper than storing the empty words here.

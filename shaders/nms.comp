@@ -3,9 +3,9 @@
 //                          (ay << 15) > 79109 ax -> vertical neighbours (x, y-1), (x, y+1)
 //                          otherwise diagonal, s = (dx, dy same sign) ? 1 : -1: (x-s, y-1), (x+s, y+1)
 //   local max: mag > first and mag >= second (diagonal: > both); mag <= low is never an edge.
-// In: dx, dy as gaussian_sobel.comp packs them (two int16 per uint, rows of pc.d = 4 * pc.b uvec4, i.e.
+// In: dx, dy as gaussian_sobel_thresholds.comp packs them (two int16 per uint, rows of pc.d = 4 * pc.b uvec4, i.e.
 // whole mask words; values past the row end are don't-care), mag = |dx| + |dy| recomputed;
-// thresholds from binding 4 (canny_thresholds.comp).
+// thresholds from binding 4 (gaussian_sobel_thresholds.comp).
 // Out (binding 5, the bit masks of hysteresis_edge_sign.comp): per row y and 32-pixel word s (pc.b words per
 // row), uvec2(weak or strong, strong), bit k = pixel x = 32 s + k; the outermost rows and columns
 // and the bits past the row end are 0.

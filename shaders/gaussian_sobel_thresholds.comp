@@ -1,13 +1,22 @@
-// gaussian_sobel: the optional 3x3 Gaussian (kernels/gaussian.h) and the 3x3 Sobel
-// (kernels/sobel.h) in one pass, the blurred rows kept in registers. Integer only, replicate
-// border at both steps, so bit-identical to the scalar gaussian then sobel:
+// gaussian_sobel_thresholds: three kernels in one dispatch: the optional 3x3 Gaussian
+// (kernels/gaussian.h), the 3x3 Sobel (kernels/sobel.h), and the automatic Canny thresholds
+// (kernels/canny_thresholds.h: the magnitude histogram, then the threshold choice by the
+// workgroup that finishes last). Integer only, replicate border at both filters, so bit-identical
+// to the scalar gaussian -> sobel -> canny_thresholds:
 //   G = BLUR ? gaussian(src) : src, G(x, y) = G(clamp(x, 0, w-1), clamp(y, 0, h-1)) outside;
 //   gaussian(x, y) = (sum w_i w_j src(x+i, y+j) + 8) >> 4 with w = [1 2 1], src replicated;
 //   dx = sum_j w_j (G(x+1, y+j) - G(x-1, y+j)),  dy = sum_i w_i (G(x+i, y+1) - G(x+i, y-1)),
-//   |dx|, |dy| <= 1020 (mag = |dx| + |dy| is not stored: its readers recompute it, cheaper than a
-//   third plane of stores on lavapipe).
+//   |dx|, |dy| <= 1020, mag = |dx| + |dy| <= 2040 (not stored: nms recomputes it, cheaper than a
+//   third plane of stores on lavapipe);
+//   hist[m] = #{pixels with mag == m on rows y % kRowStep == 0} (kHistogramRowStep), N = w * those rows;
+//   high = max(min_high, smallest h with 1000 * #{mag <= h} >= high_permille * N), 2040 if none;
+//   low = high * low_permille / 1000,
+// with the 64-bit product moved to the host: pc.a = need = ceil(high_permille * N / 1000), and
+// 1000 * below >= high_permille * N  <=>  below >= need  for integer below.
 // BLUR: specialisation constant 0 (1: Gaussian first, 0: Sobel of the frame as uploaded). A
 // constant, not a push constant: lavapipe runs both sides of a branch (masked).
+// One dispatch, not three: on lavapipe every dispatch wakes the driver's worker threads, which
+// costs more than a small frame's whole work.
 //
 // In (binding 0), "padded frame": packed bytes, rows of pc.b uvec4 = 16 pad bytes, then pc.c
 // chunks of 16 pixels, then 16 pad bytes; h + 2 rows, row r (-1..h) at uvec4 (r + 1) * pc.b. The
@@ -17,20 +26,37 @@
 // Out: bindings 1 / 2: dx / dy (int16), packed two per uint (pixel 2k in the low half), rows of
 // pc.d uvec4 = 8 * pc.d elements (a whole number of 32-pixel hysteresis mask words, >= the pc.c
 // chunks written here; elements past the row end are don't-care). dx and dy are what the host
-// downloads.
+// downloads. Binding 4: params[0] = low, params[1] = high, for nms.comp.
+// Binding 3: the histogram, kBins counts and then the count of finished workgroups; zero before
+// the dispatch (vkCmdFillBuffer). Each workgroup counts into a shared histogram and adds its
+// non-zero bins with atomics (exact whatever the order), then counts itself; the workgroup whose
+// count completes the total has seen every other group's bins and selects.
 // One invocation: one 16-pixel chunk of kRows rows; the input rows it needs (three per output
 // row) are carried in registers, each loaded once (one uvec4 and two single words per row): wide
 // accesses matter on lavapipe, where each buffer access is a loop over the SIMD lanes.
 #version 450
-layout(local_size_x = 64) in;
+layout(local_size_x = 64) in;  // kGroupSize
 
 layout(std430, set = 0, binding = 0) readonly buffer Image { uvec4 image[]; };
 layout(std430, set = 0, binding = 1) writeonly buffer Dx { uvec4 dx[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Dy { uvec4 dy[]; };
-layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
+// coherent: the last workgroup reads the bins the others added (their atomics) after it saw
+// their count.
+layout(std430, set = 0, binding = 3) coherent buffer Hist { uint hist[]; };
+layout(std430, set = 0, binding = 4) writeonly buffer Thresholds { uint params[]; };
+// e = low_permille, f = min_high.
+layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; uint e; uint f; } pc;
 
 layout(constant_id = 0) const uint BLUR = 1u;
-const uint kRows = 8u;
+const uint kRows = 8u;               // a multiple of kRowStep
+const uint kGroupSize = 64u;
+const uint kBins = 2041u;            // kMaxMagnitude + 1
+const uint kBinsPerThread = 32u;     // kGroupSize * 32 >= kBins
+const uint kRowStep = 4u;            // kHistogramRowStep (kernels/canny_thresholds.h)
+
+shared uint local_hist[kBins];
+shared uint partial[kGroupSize];
+shared bool last_group;
 
 // 16 pixels of a row chunk (p0 = pixels 0..3, ...) and the pixels just left (l) and right (r) of
 // it; l2 / r2: the pixels two to the left / right (read only where BLUR needs them).
@@ -98,7 +124,17 @@ uvec4 Pack16(ivec4 a, ivec4 b) {
   return lo | (hi << 16u);
 }
 
-// dx, dy of output row y from the Sobel input rows a (y - 1), b (y), c (y + 1).
+// Counts the magnitudes of 4 pixels (k0..k0+3 of the chunk) that lie inside the row.
+void Count(ivec4 gx, ivec4 gy, int k0, int inside) {
+  uvec4 m = uvec4(abs(gx) + abs(gy));
+  if (k0 < inside) atomicAdd(local_hist[m.x], 1u);
+  if (k0 + 1 < inside) atomicAdd(local_hist[m.y], 1u);
+  if (k0 + 2 < inside) atomicAdd(local_hist[m.z], 1u);
+  if (k0 + 3 < inside) atomicAdd(local_hist[m.w], 1u);
+}
+
+// dx, dy of output row y from the Sobel input rows a (y - 1), b (y), c (y + 1); row y's
+// magnitudes counted when it is a histogram row.
 void Store(int y, uint cx, Chunk a, Chunk b, Chunk c) {
   ivec4 sa0, sa1, sa2, sa3, sc0, sc1, sc2, sc3;
   Smooth(a, sa0, sa1, sa2, sa3);
@@ -114,21 +150,54 @@ void Store(int y, uint cx, Chunk a, Chunk b, Chunk c) {
   uint o = uint(y) * pc.d + 2u * cx;
   dx[o] = Pack16(gx0, gx1);
   dx[o + 1u] = Pack16(gx2, gx3);
-  dy[o] = Pack16(sc0 - sa0, sc1 - sa1);
-  dy[o + 1u] = Pack16(sc2 - sa2, sc3 - sa3);
+  ivec4 gy0 = sc0 - sa0, gy1 = sc1 - sa1, gy2 = sc2 - sa2, gy3 = sc3 - sa3;
+  dy[o] = Pack16(gy0, gy1);
+  dy[o + 1u] = Pack16(gy2, gy3);
+  if ((uint(y) % kRowStep) == 0u) {
+    int inside = int(pc.width) - int(16u * cx);  // pixels of this chunk in the row
+    Count(gx0, gy0, 0, inside);
+    Count(gx1, gy1, 4, inside);
+    Count(gx2, gy2, 8, inside);
+    Count(gx3, gy3, 12, inside);
+  }
 }
 
-void main() {
-  uint id = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
-  uint cx = id % pc.c, block = id / pc.c;
-  int h = int(pc.height);
-  int y0 = int(block * kRows);
-  if (y0 >= h) return;
-  int y1 = min(y0 + int(kRows), h);
+// The thresholds from the complete histogram (the last workgroup; every invocation calls it).
+void Select() {
+  uint lid = gl_LocalInvocationID.x;
+  uint sum = 0u;
+  for (uint k = 0u; k < kBinsPerThread; ++k) {
+    uint b = lid * kBinsPerThread + k;
+    if (b < kBins) sum += hist[b];
+  }
+  partial[lid] = sum;
+  barrier();
+  if (lid != 0u) return;
+  uint need = pc.a;
+  uint below = 0u;
+  uint h = kBins - 1u;
+  bool found = false;
+  for (uint t = 0u; t < kGroupSize && !found; ++t) {
+    if (below + partial[t] < need) { below += partial[t]; continue; }
+    for (uint k = 0u; k < kBinsPerThread; ++k) {
+      uint b = t * kBinsPerThread + k;
+      if (b >= kBins) break;
+      below += hist[b];
+      if (below >= need) { h = b; found = true; break; }
+    }
+  }
+  uint high = max(h, pc.f);
+  params[0] = high * pc.e / 1000u;
+  params[1] = high;
+}
+
+// The Gaussian (when BLUR) and the Sobel of this invocation's chunk and rows, counting the
+// histogram rows.
+void Gradients(uint cx, int y0, int y1, int h) {
   if (BLUR == 1u) {
     int last_k = int(pc.width) - 1 - int(16u * cx);
-    // Frame rows i0..i3 = y - 2 .. y + 1 (clamped to the padded rows -1..h); blurred rows
-    // ga, gb = y - 1, y (clamped to 0..h-1: the blurred frame's replicate border).
+    // Frame rows i1..i3 (clamped to the padded rows -1..h) give the blurred rows ga, gb, gc =
+    // y - 1, y, y + 1 (clamped to 0..h-1: the blurred frame's replicate border).
     Chunk i1 = Load(max(y0 - 2, -1), cx), i2 = Load(y0 - 1, cx), i3 = Load(y0, cx);
     Chunk ga = Blur(i1, i2, i3, cx, last_k);  // blurred row y0 - 1 (when y0 > 0)
     i1 = i2;
@@ -156,4 +225,28 @@ void main() {
       b = c;
     }
   }
+}
+
+void main() {
+  uint lid = gl_LocalInvocationID.x;
+  for (uint b = lid; b < kBins; b += kGroupSize) local_hist[b] = 0u;
+  barrier();
+  uint id = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
+  uint cx = id % pc.c, block = id / pc.c;
+  int h = int(pc.height);
+  int y0 = int(block * kRows);
+  if (y0 < h) Gradients(cx, y0, min(y0 + int(kRows), h), h);  // no return: barriers follow
+  barrier();
+  for (uint b = lid; b < kBins; b += kGroupSize) {
+    uint v = local_hist[b];
+    if (v != 0u) atomicAdd(hist[b], v);
+  }
+  // This group's bins, then its count (release); the group whose count completes the total reads
+  // every bin after it (acquire).
+  memoryBarrierBuffer();
+  barrier();
+  if (lid == 0u) last_group = atomicAdd(hist[kBins], 1u) == gl_NumWorkGroups.x * gl_NumWorkGroups.y - 1u;
+  barrier();
+  memoryBarrierBuffer();
+  if (last_group) Select();  // the same value in every invocation of the group
 }
