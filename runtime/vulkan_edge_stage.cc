@@ -8,9 +8,9 @@
 
 #include "kernels/canny_thresholds.h"
 #include "shaders/gaussian_sobel_thresholds.spv.h"
-#include "shaders/hysteresis_edge_sign.spv.h"
-#include "shaders/hysteresis_edge_sign_rmw.spv.h"
-#include "shaders/nms.spv.h"
+#include "shaders/hysteresis.spv.h"
+#include "shaders/hysteresis_rmw.spv.h"
+#include "shaders/nms_edge_sign.spv.h"
 
 namespace ellipsekit {
 
@@ -45,11 +45,10 @@ Status VulkanEdgeStage::Init() {
   const VulkanProgram::Shader shaders[kNumPipelines] = {
       {kGaussianSobelThresholdsSpv, sizeof(kGaussianSobelThresholdsSpv), true, 1},
       {kGaussianSobelThresholdsSpv, sizeof(kGaussianSobelThresholdsSpv), true, 0},
-      {kNmsSpv, sizeof(kNmsSpv)},
+      {kNmsEdgeSignSpv, sizeof(kNmsEdgeSignSpv)},
       // Relaxed atomics under the Vulkan memory model where the device has it, else atomicOr.
-      ctx_->memory_model()
-          ? VulkanProgram::Shader{kHysteresisEdgeSignSpv, sizeof(kHysteresisEdgeSignSpv)}
-          : VulkanProgram::Shader{kHysteresisEdgeSignRmwSpv, sizeof(kHysteresisEdgeSignRmwSpv)}};
+      ctx_->memory_model() ? VulkanProgram::Shader{kHysteresisSpv, sizeof(kHysteresisSpv)}
+                           : VulkanProgram::Shader{kHysteresisRmwSpv, sizeof(kHysteresisRmwSpv)}};
   return program_.Create(ctx_.get(), kNumBindings, kPushWords * sizeof(std::uint32_t), shaders, kNumPipelines);
 }
 
@@ -114,8 +113,8 @@ static_assert(VulkanEdgeStage::kNumSteps + 1 <= VulkanProgram::kMaxTimestamps, "
 const char* VulkanEdgeStage::StepName(Step s) {
   switch (s) {
     case kStepGaussianSobelThresholds: return "gaussian_sobel_thresholds";
-    case kStepNms: return "nms";
-    case kStepHysteresisEdgeSign: return "hysteresis_edge_sign";
+    case kStepNmsEdgeSign: return "nms_edge_sign";
+    case kStepHysteresis: return "hysteresis";
     case kNumSteps: break;
   }
   return "?";
@@ -144,10 +143,8 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   vk.vkBeginCommandBuffer(cb, &begin);
   if (rec.timed) program_.StartTimestamps(cb, 0, kNumSteps + 1);
   // The host wrote the frame before the submit (visible to it); the previous frame's work is done
-  // (fence), so clearing the histogram and the edge map needs no barrier before it.
-  // hysteresis_edge_sign.comp writes only the edge map's words that hold an edge.
+  // (fence), so clearing the histogram needs no barrier before it.
   vk.vkCmdFillBuffer(cb, buffers_[kHist].buffer, 0, VK_WHOLE_SIZE, 0u);
-  vk.vkCmdFillBuffer(cb, buffers_[kEdges].buffer, 0, VK_WHOLE_SIZE, 0u);
   program_.Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
   const std::uint32_t plane_row_vec4 = 4 * mask_words_;
   const std::uint32_t frame_push[kPushWords] = {uw,      uh,      rec.need,         padded_row_vec4_,
@@ -156,12 +153,12 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepGaussianSobelThresholds);
   const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, 0, 0};
-  Dispatch1D(cb, kNms, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
+  Dispatch1D(cb, kNmsEdgeSign, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
-  timestamp(cb, kStepNms);
-  Dispatch(cb, kHysteresisEdgeSign, 1, 1, mask_push);
+  timestamp(cb, kStepNmsEdgeSign);
+  Dispatch(cb, kHysteresis, 1, 1, mask_push);  // one workgroup (shaders/hysteresis_sweep.glsl)
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-  timestamp(cb, kStepHysteresisEdgeSign);
+  timestamp(cb, kStepHysteresis);
   const VkResult r = vk.vkEndCommandBuffer(cb);
   if (r != VK_SUCCESS) return VkFail("vkEndCommandBuffer", r);
   recorded_ = rec;

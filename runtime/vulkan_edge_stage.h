@@ -1,13 +1,14 @@
 // The edge stage on a Vulkan compute device, three dispatches per frame:
 //   gaussian_sobel_thresholds (the optional Gaussian, the Sobel and the magnitude histogram in one
-//   pass; the workgroup that finishes last chooses the thresholds) -> nms ->
-//   hysteresis_edge_sign (edge tracking to its fixed point, then the sign classes, one workgroup),
+//   pass; the workgroup that finishes last chooses the thresholds) -> nms_edge_sign (non-maximum
+//   suppression, and the sign class of every pixel it keeps) -> hysteresis (edge tracking to its
+//   fixed point in one workgroup; the classes of the weak pixels it drops are cleared),
 // bit-identical to the scalar kernels (every step is integer; see shaders/*.comp for each
 // kernel's contract and data layout).
 //
 // Per frame: the host writes the frame, with replicated borders, straight into a host-visible
-// storage buffer and submits a command buffer recorded once for the frame size and options (two
-// fills, the three dispatches, a barrier after each); the shaders write dx, dy and the edge map
+// storage buffer and submits a command buffer recorded once for the frame size and options (a
+// fill, the three dispatches, a barrier after each); the shaders write dx, dy and the edge map
 // straight into host-visible buffers, and the host copies their rows out. One submit and one
 // fence wait per frame; no staging copies. Thresholds are chosen on the device (the 64-bit
 // product of the scalar rule is folded into a host-side push constant).
@@ -51,7 +52,7 @@ class VulkanEdgeStage {
              std::uint8_t* edge_map);
 
   // The steps (dispatches) the device time is split into (timestamps after each step's barrier).
-  enum Step { kStepGaussianSobelThresholds, kStepNms, kStepHysteresisEdgeSign, kNumSteps };
+  enum Step { kStepGaussianSobelThresholds, kStepNmsEdgeSign, kStepHysteresis, kNumSteps };
   static const char* StepName(Step s);
 
   // Device timestamps around each step: off by default, because on lavapipe each timestamp costs
@@ -60,7 +61,7 @@ class VulkanEdgeStage {
   // Device time of the last Run (GPU timestamps; the host's row copies into and out of the
   // host-visible buffers are not in it); -1 when step timing is off or the queue has no timestamps.
   double last_device_ms() const { return last_device_ms_; }
-  // The same split by step (sums to last_device_ms() but for the fill commands); -1 without
+  // The same split by step (sums to last_device_ms() but for the fill command); -1 without
   // step timing.
   double last_step_device_ms(Step s) const { return last_step_ms_[s]; }
   const std::string& device_name() const { return ctx_->device_name(); }
@@ -69,7 +70,7 @@ class VulkanEdgeStage {
 
  private:
   // kGaussianSobelThresholds blurs first, kSobelThresholds does not (BLUR = 1 / 0).
-  enum Pipeline { kGaussianSobelThresholds, kSobelThresholds, kNms, kHysteresisEdgeSign, kNumPipelines };
+  enum Pipeline { kGaussianSobelThresholds, kSobelThresholds, kNmsEdgeSign, kHysteresis, kNumPipelines };
   static constexpr int kNumBindings = 7;
 
   // What the recorded command buffer was made for; Run re-records when the frame asks for other.

@@ -26,7 +26,7 @@
 // Out: bindings 1 / 2: dx / dy (int16), packed two per uint (pixel 2k in the low half), rows of
 // pc.d uvec4 = 8 * pc.d elements (a whole number of 32-pixel hysteresis mask words, >= the pc.c
 // chunks written here; elements past the row end are don't-care). dx and dy are what the host
-// downloads. Binding 4: params[0] = low, params[1] = high, for nms.comp.
+// downloads. Binding 4: params[0] = low, params[1] = high, for nms_edge_sign.comp.
 // Binding 3: the histogram, kBins counts and then the count of finished workgroups; zero before
 // the dispatch (vkCmdFillBuffer). Each workgroup counts into a shared histogram and adds its
 // non-zero bins with atomics (exact whatever the order), then counts itself; the workgroup whose

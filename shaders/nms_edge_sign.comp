@@ -1,14 +1,22 @@
-// nms: Canny non-maximum suppression with the two thresholds applied (kernels/nms.h). Integer only:
+// nms_edge_sign: two kernels in one pass: Canny non-maximum suppression with the two thresholds
+// applied (kernels/nms.h), and the gradient-sign class (kernels/edge_sign.h, paper eq. 1) of
+// every pixel it keeps. Integer only:
 //   ax = |dx|, ay = |dy|;  (ay << 15) < 13573 ax -> horizontal neighbours (x-1, y), (x+1, y)
 //                          (ay << 15) > 79109 ax -> vertical neighbours (x, y-1), (x, y+1)
 //                          otherwise diagonal, s = (dx, dy same sign) ? 1 : -1: (x-s, y-1), (x+s, y+1)
 //   local max: mag > first and mag >= second (diagonal: > both); mag <= low is never an edge.
-// In: dx, dy as gaussian_sobel_thresholds.comp packs them (two int16 per uint, rows of pc.d = 4 * pc.b uvec4, i.e.
-// whole mask words; values past the row end are don't-care), mag = |dx| + |dy| recomputed;
-// thresholds from binding 4 (gaussian_sobel_thresholds.comp).
-// Out (binding 5, the bit masks of hysteresis_edge_sign.comp): per row y and 32-pixel word s (pc.b words per
+//   class = 1 when dx * dy > 0, 2 when dx * dy < 0, 0 otherwise (|dx * dy| <= 1020^2), for the
+//   weak and strong pixels; 0 for the others. Which of them are edges is hysteresis.comp's to
+//   decide: it clears the classes of the weak pixels that are not. Classifying here, where dx
+//   and dy are already in registers and all workgroups run in parallel, spares the one-workgroup
+//   hysteresis dispatch a pass over dx and dy.
+// In: dx, dy as gaussian_sobel_thresholds.comp packs them (two int16 per uint, rows of pc.d =
+// 4 * pc.b uvec4, i.e. whole mask words; values past the row end are don't-care),
+// mag = |dx| + |dy| recomputed; thresholds from binding 4 (gaussian_sobel_thresholds.comp).
+// Out: binding 5, the bit masks of hysteresis.comp: per row y and 32-pixel word s (pc.b words per
 // row), uvec2(weak or strong, strong), bit k = pixel x = 32 s + k; the outermost rows and columns
-// and the bits past the row end are 0.
+// and the bits past the row end are 0. Binding 6, the edge map: packed bytes (4 pixels per uint,
+// little-endian), rows of 32 * pc.b bytes, every word written (the host reads the first w bytes).
 // One invocation: one mask word (32 pixels) of kRows rows, the three gradient rows carried in
 // registers; 8 pixels (one uvec4 per row) at a time in vector registers.
 #version 450
@@ -18,6 +26,7 @@ layout(std430, set = 0, binding = 1) readonly buffer Dx { uvec4 dx[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Dy { uvec4 dy[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Thresholds { uint params[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer Masks { uvec2 masks[]; };
+layout(std430, set = 0, binding = 6) writeonly buffer Edges { uvec4 edges[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
 const uint kRows = 8u;
@@ -88,8 +97,17 @@ uint Classify(ivec4 m, ivec4 l, ivec4 r, ivec4 u, ivec4 ul, ivec4 ur, ivec4 d, i
   return cb.x | cb.y | cb.z | cb.w;
 }
 
-// Pixels 8 j .. 8 j + 7 of the word: candidate bits (returned) and strong bits, in the low byte.
-uint ClassifyGroup(Row u, Row c, Row d, uint j, int x0, int low, int high, out uint strong) {
+// Sign classes of 4 pixels (0 where `bits` has no bit) packed into the bytes of one word.
+uint Classes(ivec4 gx, ivec4 gy, uint bits) {
+  ivec4 p = gx * gy;
+  uvec4 cls = mix(mix(uvec4(0u), uvec4(2u), lessThan(p, ivec4(0))), uvec4(1u), greaterThan(p, ivec4(0)));
+  cls *= (uvec4(bits) >> uvec4(0u, 1u, 2u, 3u)) & 1u;
+  return cls.x | (cls.y << 8u) | (cls.z << 16u) | (cls.w << 24u);
+}
+
+// Pixels 8 j .. 8 j + 7 of the word: candidate bits (returned) and strong bits, in the low byte;
+// the candidates' classes, pixels 0..3 and 4..7 (two words of the edge map).
+uint ClassifyGroup(Row u, Row c, Row d, uint j, int x0, int low, int high, out uint strong, out uvec2 classes) {
   ivec4 gxl, gxh, gyl, gyh, ulo, uhi, clo, chi, dlo, dhi, unused;
   int ul, ur, cl, cr, dl, dr;
   Group(u, j, unused, unused, unused, unused, ulo, uhi, ul, ur);
@@ -102,6 +120,7 @@ uint ClassifyGroup(Row u, Row c, Row d, uint j, int x0, int low, int high, out u
   uint c_hi = Classify(chi, ivec4(clo.w, chi.xyz), ivec4(chi.yzw, cr), uhi, ivec4(ulo.w, uhi.xyz), ivec4(uhi.yzw, ur),
                        dhi, ivec4(dlo.w, dhi.xyz), ivec4(dhi.yzw, dr), gxh, gyh, xl + 4, low, high, st_hi);
   strong = st_lo | (st_hi << 4u);
+  classes = uvec2(Classes(gxl, gyl, c_lo), Classes(gxh, gyh, c_hi));
   return c_lo | (c_hi << 4u);
 }
 
@@ -121,15 +140,19 @@ void main() {
   for (int y = y0; y < y1; ++y) {
     Row d = LoadRow(min(y + 1, h - 1), s, has_left, has_right);
     uint cand = 0u, strong = 0u;
+    uvec2 cls[4] = uvec2[4](uvec2(0u), uvec2(0u), uvec2(0u), uvec2(0u));
     if (y > 0 && y < h - 1) {
       for (uint j = 0u; j < 4u; ++j) {
         uint st;
-        uint cb = ClassifyGroup(u, c, d, j, x0 + int(8u * j), low, high, st);
+        uint cb = ClassifyGroup(u, c, d, j, x0 + int(8u * j), low, high, st, cls[j]);
         cand |= cb << (8u * j);
         strong |= st << (8u * j);
       }
     }
-    masks[uint(y) * pc.b + s] = uvec2(cand, strong);
+    uint word = uint(y) * pc.b + s;
+    masks[word] = uvec2(cand, strong);
+    edges[2u * word] = uvec4(cls[0], cls[1]);
+    edges[2u * word + 1u] = uvec4(cls[2], cls[3]);
     u = c;
     c = d;
   }

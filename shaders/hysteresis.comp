@@ -1,6 +1,6 @@
-// hysteresis_edge_sign: Canny edge tracking to its fixed point, then the sign class of each edge
-// pixel, in one workgroup (see hysteresis_edge_sign.glsl), with the edge words shared between
-// strips accessed by relaxed atomic loads and stores of the Vulkan memory model.
+// hysteresis: Canny edge tracking to its fixed point in one workgroup, then the edge map keeps the
+// sign classes of the edge pixels only (see hysteresis_sweep.glsl), with the edge words shared
+// between strips accessed by relaxed atomic loads and stores of the Vulkan memory model.
 // Needs the device feature vulkanMemoryModel (mandatory in Vulkan 1.3); runtime/vulkan_context.h.
 #version 450
 #extension GL_KHR_memory_scope_semantics : require
@@ -23,7 +23,7 @@ void PassBarrier() {
                  gl_SemanticsAcquireRelease);
 }
 
-#include "hysteresis_edge_sign.glsl"
+#include "hysteresis_sweep.glsl"
 
 void SetPassChanged(uint slot) {
   atomicOr(pass_changed[slot], 1u, gl_ScopeWorkgroup, gl_StorageSemanticsShared, gl_SemanticsRelaxed);

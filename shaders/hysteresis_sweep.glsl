@@ -1,48 +1,43 @@
-// hysteresis_edge_sign: the body of hysteresis_edge_sign.comp and hysteresis_edge_sign_rmw.comp,
-// which define the atomic accessors NeighbourEdges(index) and StoreEdges(index, word) of binding 5
-// and PassBarrier() (a workgroup barrier that makes the buffer and shared writes before it visible
-// after it), include this file, then define SetPassChanged(slot).
+// hysteresis_sweep: the body of hysteresis.comp and hysteresis_rmw.comp, which define the atomic
+// accessors NeighbourEdges(index) and StoreEdges(index, word) of binding 5 and PassBarrier() (a
+// workgroup barrier that makes the buffer and shared writes before it visible after it), include
+// this file, then define SetPassChanged(slot).
 //
-// Two kernels in one dispatch of ONE workgroup: Canny edge tracking (kernels/hysteresis.h) on bit
-// masks to its global fixed point, then the gradient-sign class of every edge pixel
-// (kernels/edge_sign.h). One workgroup, so the fixed point is proved inside the dispatch (a
-// workgroup barrier is the only device-wide synchronisation a shader has): no host loop, no
-// second submit, no flags.
+// Canny edge tracking (kernels/hysteresis.h) on bit masks to its global fixed point in one
+// dispatch of ONE workgroup (a workgroup barrier is the only device-wide synchronisation a shader
+// has): no host loop, no second submit, no flags. Then the edge map that nms_edge_sign.comp wrote
+// (the sign class of every weak or strong pixel) keeps the classes of the edge pixels only.
 //
-// Hysteresis contract reached: a pixel is an edge exactly when it is weak or strong and
-// 8-connected through weak/strong pixels to a strong one. Binding 5 holds, per row y and 32-pixel
-// word s (row-major, pc.b words per row), uvec2(candidate, edge): bit k of a word is pixel
-// x = 32 s + k; candidate = weak or strong (nms.comp), edge = strong or reached. Padding bits are 0.
+// Contract reached: a pixel is an edge exactly when it is weak or strong and 8-connected through
+// weak/strong pixels to a strong one. Binding 5 holds, per row y and 32-pixel word s (row-major,
+// pc.b words per row), uvec2(candidate, edge): bit k of a word is pixel x = 32 s + k;
+// candidate = weak or strong (nms_edge_sign.comp), edge = strong or reached. Padding bits are 0.
 //
 // Invocation i owns the columns of words (32-pixel strips, all rows) s = i, i + 64, ... and, in
 // each pass, sweeps each of them down, then up, until that strip changes no more (one sweep
 // carries an edge along the whole strip; see Sweep; every repeat promotes a pixel of the strip,
-// so 32 * height + 1 repeats bound it). 8-connectivity inside one row is plain left/right adjacency, so a row's candidate
-// runs are flooded with a Kogge-Stone fill. The only write is "candidate becomes edge" with an
-// edge neighbour, which is monotone, so stale reads of a neighbour strip (written concurrently in
-// the same pass) only delay a promotion, never make a wrong one. After each pass a barrier makes
-// every write visible to the whole workgroup; a pass in which no invocation changed anything read
-// only final values, so it is a fixed point of the global rule, i.e. the contract, and the loop
-// ends (the decision is read from shared memory after the barrier, so it is uniform). Every pass
-// that does not end the loop promotes a pixel, so width * height + 1 passes bound it.
+// so 32 * height + 1 repeats bound it). 8-connectivity inside one row is plain left/right
+// adjacency, so a row's candidate runs are flooded with a Kogge-Stone fill. The only write is
+// "candidate becomes edge" with an edge neighbour, which is monotone, so stale reads of a
+// neighbour strip (written concurrently in the same pass) only delay a promotion, never make a
+// wrong one. After each pass a barrier makes every write visible to the whole workgroup; a pass
+// in which no invocation changed anything read only final values, so it is a fixed point of the
+// global rule, i.e. the contract, and the loop ends (the decision is read from shared memory
+// after the barrier, so it is uniform). Every pass that does not end the loop promotes a pixel,
+// so width * height + 1 passes bound it.
 // The edge words are the only memory one invocation writes while others read it: those accesses
-// are atomic (NeighbourEdges / StoreEdges), so there is no data race. hysteresis_edge_sign.comp
-// does them as relaxed atomic loads and stores under the Vulkan memory model (plain loads and
-// stores on most hardware); hysteresis_edge_sign_rmw.comp, for devices without
-// vulkanMemoryModel, as atomicOr.
+// are atomic (NeighbourEdges / StoreEdges), so there is no data race. hysteresis.comp does them
+// as relaxed atomic loads and stores under the Vulkan memory model (plain loads and stores on
+// most hardware); hysteresis_rmw.comp, for devices without vulkanMemoryModel, as atomicOr.
 //
-// Edge sign: out = 1 when edge and dx * dy > 0, 2 when edge and dx * dy < 0, else 0
-// (|dx * dy| <= 1020^2). In: bindings 1 / 2 (dx / dy as gaussian_sobel_thresholds.comp packs them, rows of pc.d
-// uvec4). Out: binding 6, packed bytes (4 pixels per uint, little-endian), rows of 32 * pc.b
-// bytes (whole mask words); only words with an edge pixel are written: the host zeroes the buffer
-// before the dispatch (vkCmdFillBuffer), which is cheaper than storing the empty words here.
+// Edge map (binding 6): packed bytes (4 pixels per uint, little-endian), rows of 32 * pc.b bytes;
+// the bytes of the candidates that did not become edges are cleared (only words that hold one
+// are read and written).
 //
 // 64 invocations: lavapipe runs one workgroup on one CPU thread, 8 lanes per SIMD instruction.
 layout(local_size_x = 64) in;
 
-layout(std430, set = 0, binding = 1) readonly buffer Dx { uvec4 dx[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Dy { uvec4 dy[]; };
-layout(std430, set = 0, binding = 6) writeonly buffer Edges { uvec4 edges[]; };
+layout(std430, set = 0, binding = 6) buffer Edges { uvec4 edges[]; };
 layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
 
 // Per pass p, slot p % 3: non-zero when an invocation changed something in pass p. Slot
@@ -96,29 +91,19 @@ void Sweep(int start, int dir, uint s, uint ls, uint rs, uint lm, uint rm, uint 
   }
 }
 
-// Classes of 4 pixels (edge bits in `bits`, values sign-extended from their 16-bit halves)
-// packed into the bytes of one word.
-uint Classes(uvec4 gx, uvec4 gy, uint bits) {
-  ivec4 p = ivec4(gx) * ivec4(gy);
-  uvec4 cls = mix(mix(uvec4(0u), uvec4(2u), lessThan(p, ivec4(0))), uvec4(1u), greaterThan(p, ivec4(0)));
-  cls *= (uvec4(bits) >> uvec4(0u, 1u, 2u, 3u)) & 1u;  // 0 off the edge
-  return cls.x | (cls.y << 8u) | (cls.z << 16u) | (cls.w << 24u);
+// ~(0xff in the bytes of the pixels whose bit is set), for 4 pixels (bits 0..3 of each word of
+// `bits`).
+uvec4 KeepMask(uvec4 bits) {
+  uvec4 m = (bits & 1u) * 0xffu | ((bits >> 1u) & 1u) * 0xff00u | ((bits >> 2u) & 1u) * 0xff0000u |
+            ((bits >> 3u) & 1u) * 0xff000000u;
+  return ~m;
 }
 
-// Signed 16-bit values 0..3 / 4..7 of eight packed in a uvec4 (value 2k in the low half of word k).
-uvec4 Lo(uvec4 v) { return uvec4(ivec4(uvec4(v.xxyy) << uvec4(16u, 0u, 16u, 0u)) >> 16); }
-uvec4 Hi(uvec4 v) { return uvec4(ivec4(uvec4(v.zzww) << uvec4(16u, 0u, 16u, 0u)) >> 16); }
-
-// The 32 classes of edge word `e` (row y, strip s) as two uvec4 (16 pixels each).
-void StoreClasses(uint y, uint s, uint e) {
-  uint q = y * pc.d + 4u * s;
-  uvec4 x0 = dx[q], x1 = dx[q + 1u], x2 = dx[q + 2u], x3 = dx[q + 3u];
-  uvec4 y0 = dy[q], y1 = dy[q + 1u], y2 = dy[q + 2u], y3 = dy[q + 3u];
+// Clears the classes of the pixels of word (y, s) whose bit is set in `drop`.
+void DropClasses(uint y, uint s, uint drop) {
   uint o = 2u * (y * pc.b + s);
-  edges[o] = uvec4(Classes(Lo(x0), Lo(y0), e), Classes(Hi(x0), Hi(y0), e >> 4u),
-                   Classes(Lo(x1), Lo(y1), e >> 8u), Classes(Hi(x1), Hi(y1), e >> 12u));
-  edges[o + 1u] = uvec4(Classes(Lo(x2), Lo(y2), e >> 16u), Classes(Hi(x2), Hi(y2), e >> 20u),
-                        Classes(Lo(x3), Lo(y3), e >> 24u), Classes(Hi(x3), Hi(y3), e >> 28u));
+  edges[o] &= KeepMask((uvec4(drop) >> uvec4(0u, 4u, 8u, 12u)) & 15u);
+  edges[o + 1u] &= KeepMask((uvec4(drop) >> uvec4(16u, 20u, 24u, 28u)) & 15u);
 }
 
 void main() {
@@ -148,11 +133,12 @@ void main() {
     PassBarrier();
     if (pass_changed[pass % 3u] == 0u) break;  // the same value for every invocation
   }
-  // Final edge words: no invocation writes them any more, and the last barrier made them visible.
+  // Final edge words (this invocation's own strips): candidates that are not edges lose their class.
   for (uint s = lid; s < wpr; s += gl_WorkGroupSize.x) {
     for (uint y = 0u; y < pc.height; ++y) {
-      uint e = masks[y * wpr + s].y;
-      if (e != 0u) StoreClasses(y, s, e);
+      uvec2 m = masks[y * wpr + s];
+      uint drop = m.x & ~m.y;
+      if (drop != 0u) DropClasses(y, s, drop);
     }
   }
 }

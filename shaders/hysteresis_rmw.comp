@@ -1,4 +1,4 @@
-// hysteresis_edge_sign_rmw: hysteresis_edge_sign.comp for devices without vulkanMemoryModel: the
+// hysteresis_rmw: hysteresis.comp for devices without vulkanMemoryModel: the
 // edge words shared between strips are accessed by atomic read-modify-writes (atomicOr), which
 // every Vulkan device has. Slower on lavapipe (README); the same result.
 #version 450
@@ -14,6 +14,6 @@ void PassBarrier() {
   barrier();
 }
 
-#include "hysteresis_edge_sign.glsl"
+#include "hysteresis_sweep.glsl"
 
 void SetPassChanged(uint slot) { atomicOr(pass_changed[slot], 1u); }
