@@ -130,6 +130,11 @@ Status FrameLoop::ProcessDetections(const std::vector<Ellipse>& dets, const Dept
       // to the circle pose without building an error message.
       if (depth != nullptr && options_.top_centre == TopCentreMethod::kRimPlane) {
         RimSample rs;
+        // The track's predicted centre tells an occluder's top in front of the rim from the rim.
+        if (s.kf)
+          rim_.mutable_options().expected_centre = R_wc_.transpose() * (Eigen::Vector3d(s.kf->position()) - t_wc_);
+        else
+          rim_.mutable_options().expected_centre.reset();
         if (rim_.TrySample(e, *depth, camera_, &rs)) {
           pc = rs.centre;
           cov = rs.covariance;

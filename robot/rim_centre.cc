@@ -130,11 +130,13 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
   struct Fit {
     Eigen::Vector3d n;
     double d = 0, noise = 0, rms = 0;
+    double level = 0, ceiling = 0;  // the rim level found; samples above `ceiling` were left out
     int inliers = 0, sectors = 0;
     bool outer = false, ok = false;
   };
-  auto run = [&](Eigen::Vector3d n, bool refit) {
+  auto run = [&](Eigen::Vector3d n, bool refit, double ceiling) {
     Fit f;
+    f.ceiling = ceiling;
     if (n.dot(ray_e) > 0) n = -n;  // towards the camera: higher = larger n . X
     for (int pass = 0; pass < (refit ? 2 : 1); ++pass) {
       for (Pt& p : pts_) p.h = static_cast<float>(n.dot(p.X));
@@ -143,7 +145,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       for (int side = 0; side < 2; ++side) {
         tmp_.clear();
         for (const Pt& p : pts_)
-          if (p.outer == side) tmp_.push_back(p.h);
+          if (p.outer == side && p.h <= ceiling) tmp_.push_back(p.h);
         if (static_cast<int>(tmp_.size()) < o.min_inliers) continue;
         const double top = Quantile(tmp_, 0.9);
         std::size_t m = 0;
@@ -160,7 +162,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       tmp_.clear();
       const Pt* prev = nullptr;
       for (const Pt& p : pts_) {
-        if (p.outer != side || p.h < top_level - o.off_object_m) continue;
+        if (p.outer != side || p.h < top_level - o.off_object_m || p.h > ceiling) continue;
         if (prev != nullptr) tmp_.push_back(std::abs(static_cast<double>(p.h) - prev->h));
         prev = &p;
       }
@@ -169,7 +171,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       // Mean shift from the side's upper quartile.
       tmp_.clear();
       for (const Pt& p : pts_)
-        if (p.outer == side && p.h > top_level - o.off_object_m) tmp_.push_back(p.h);
+        if (p.outer == side && p.h > top_level - o.off_object_m && p.h <= ceiling) tmp_.push_back(p.h);
       double L = Quantile(tmp_, 0.75);
       for (int it = 0; it < 30; ++it) {
         double sw = 0, swh = 0;
@@ -191,7 +193,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       unsigned sector_mask = 0;
       for (int i = 0; i < static_cast<int>(pts_.size()); ++i) {
         const Pt& p = pts_[static_cast<std::size_t>(i)];
-        if (p.outer == side && std::abs(p.h - L) <= o.inlier_sigmas * noise) {
+        if (p.outer == side && p.h <= ceiling && std::abs(p.h - L) <= o.inlier_sigmas * noise) {
           idx_.push_back(i);
           sector_mask |= 1u << p.sector;
         }
@@ -199,6 +201,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       f.inliers = static_cast<int>(idx_.size());
       f.sectors = __builtin_popcount(sector_mask);
       f.noise = noise;
+      f.level = L;
       if (f.inliers < o.min_inliers) return f;
       if (refit && pass == 0) {
         Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -231,9 +234,27 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
   Fit fit;
   int min_sectors = o.min_sectors;
   if (o.plane_normal) {
-    if (!(o.plane_normal->allFinite() && o.plane_normal->norm() > 1e-9))
-      return fail(Failure::kBadNormal);
-    fit = run(o.plane_normal->normalized(), false);
+    if (!(o.plane_normal->allFinite() && o.plane_normal->norm() > 1e-9)) return fail(Failure::kBadNormal);
+    const Eigen::Vector3d n0 = o.plane_normal->normalized();
+    fit = run(n0, false, INFINITY);
+    // An occluder in front of the rim (a taller object passing nearer the camera) is higher than the
+    // rim along the normal over the part of the outline it hides, and is then taken for the rim (the
+    // highest surface). With the rim's expected centre (a tracked object's prediction), a level more
+    // than off_object_m from it is tried again without the samples above expected + off_object_m,
+    // and the level nearer the expectation is kept. A lid floor or a cup's contents below the rim are
+    // never reached this way (only samples above the expectation are left out).
+    if (fit.ok && o.expected_centre && o.expected_centre->allFinite()) {
+      const double expected = fit.n.dot(*o.expected_centre);
+      if (std::abs(fit.level - expected) > o.off_object_m) {
+        const Fit below = run(n0, false, expected + o.off_object_m);
+        if (below.ok && below.sectors >= min_sectors &&
+            std::abs(below.level - expected) < std::abs(fit.level - expected)) {
+          fit = below;  // idx_ holds its inliers (the last run)
+        } else {
+          fit = run(n0, false, INFINITY);  // idx_ back to the first level's inliers
+        }
+      }
+    }
   } else {
     auto cand = CirclePoseCandidates(e, 1.0, camera);
     if (!cand.ok()) {
@@ -241,10 +262,16 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       return fail(Failure::kInner);
     }
     min_sectors = std::max(min_sectors, 8);
-    for (const CirclePose& c : cand.value) {
-      Fit f = run(c.normal, true);
-      if (f.ok && (!fit.ok || f.inliers > fit.inliers)) fit = f;
+    int best_k = -1;
+    for (int k = 0; k < 2; ++k) {
+      Fit f = run(cand.value[static_cast<std::size_t>(k)].normal, true, INFINITY);
+      if (f.ok && (!fit.ok || f.inliers > fit.inliers)) {
+        fit = f;
+        best_k = k;
+      }
     }
+    // idx_ must hold the chosen candidate's inliers.
+    if (best_k == 0) fit = run(cand.value[0].normal, true, INFINITY);
   }
   if (!fit.ok || fit.inliers < o.min_inliers) return fail(Failure::kTooFewOnPlane);
   if (fit.sectors < min_sectors) {

@@ -14,7 +14,8 @@
 //
 // `ellipsekit track` runs exactly this path. Per frame: the detector's ellipses (all of them: the
 // library keeps one per top), the image tracker (tracker.h), for each track hit this frame its 3-D
-// top centre in the camera frame (the rim plane by default, rim_centre.h; the interior median for
+// top centre in the camera frame (the rim plane by default, rim_centre.h, given the track's predicted
+// centre so that a taller object passing in front is not taken for the rim; the interior median for
 // flat discs; the circle pose from `top_radius_m` when there is no depth or the depth fails),
 // mapped to the output frame and smoothed by a constant-velocity Kalman filter per track. With a
 // conveyor, the first confirmed track near the guide's image segment rides it: its top centre's

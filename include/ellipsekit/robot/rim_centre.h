@@ -16,6 +16,10 @@
 //     the outline: the inner side holds it when the outline is the rim's outer edge (outside: the
 //     side wall, lower, or the table), the outer side when the outline is an inner edge of the rim
 //     (inside: the lid floor, lower). The side whose off-object-free median is higher is taken.
+//  2b. With an expected centre (a tracked object's prediction): a taller object passing in front
+//     hides part of the outline and is higher than the rim, so the highest side can be its top; a
+//     level further than off_object_m from the expected height is tried again without the samples
+//     above it, and the level nearer the expectation is kept.
 //  3. The rim level: mean shift on the heights with a Gaussian kernel as wide as the depth noise
 //     (estimated from neighbouring samples), started at the side's upper quartile, so it settles on
 //     the top mode (the rim) and not on the blend with a lid floor a few noise sigmas below.
@@ -62,6 +66,10 @@ struct RimSampleOptions {
   int min_inliers = 12;
   int min_sectors = 4;            // of 16 angle sectors, with inliers (8 when the normal is fitted)
   std::optional<Eigen::Vector3d> plane_normal;  // camera frame, e.g. the table normal; else fitted
+  // The rim centre expected (camera frame, e.g. a track's prediction; needs plane_normal): a level
+  // found more than off_object_m from its height is an occluder's top in front of the rim, and the
+  // samples above expected + off_object_m are left out (step 2b in rim_centre.cc).
+  std::optional<Eigen::Vector3d> expected_centre;
   bool centre_from_circle = true;  // the circle through the inliers (else the pole ray, step 5)
   int min_circle_sectors = 8;      // of 16: fewer -> the pole ray
 };
