@@ -1,7 +1,6 @@
 // Concurrency and determinism: 8 threads, each with its own Detector, over the same 50 generated
 // frames give results identical (bit for bit) to one thread, and repeated runs are identical too.
 // Also run under ThreadSanitizer by `scripts/test.sh --tsan`.
-#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
@@ -10,6 +9,7 @@
 
 #include "ellipsekit/ellipsekit.h"
 #include "tools/scenes/scene_generator.h"
+#include "tests/ellipse_test_util.h"
 
 namespace ellipsekit {
 namespace {
@@ -26,22 +26,14 @@ struct Outcome {
   int num_edge_pixels = 0, num_curves = 0, num_arcs = 0, num_candidates = 0;
 };
 
-bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
 ::testing::AssertionResult Same(const Outcome& a, const Outcome& b) {
   if (a.code != b.code || a.backend != b.backend || a.caps_hit != b.caps_hit ||
       a.num_edge_pixels != b.num_edge_pixels || a.num_curves != b.num_curves || a.num_arcs != b.num_arcs ||
-      a.num_candidates != b.num_candidates || a.ellipses.size() != b.ellipses.size())
+      a.num_candidates != b.num_candidates)
     return ::testing::AssertionFailure() << "counts differ: ellipses " << a.ellipses.size() << " vs "
                                          << b.ellipses.size() << ", arcs " << a.num_arcs << " vs " << b.num_arcs
                                          << ", candidates " << a.num_candidates << " vs " << b.num_candidates;
-  for (std::size_t i = 0; i < a.ellipses.size(); ++i) {
-    const Ellipse &x = a.ellipses[i], &y = b.ellipses[i];
-    if (!SameBits(x.cx, y.cx) || !SameBits(x.cy, y.cy) || !SameBits(x.a, y.a) || !SameBits(x.b, y.b) ||
-        !SameBits(x.theta, y.theta) || !SameBits(x.score, y.score))
-      return ::testing::AssertionFailure() << "ellipse " << i << " differs";
-  }
-  return ::testing::AssertionSuccess();
+  return test::SameEllipses(a.ellipses, b.ellipses);
 }
 
 const std::vector<scenes::Scene>& Frames() {

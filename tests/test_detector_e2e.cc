@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ellipsekit/ellipsekit.h"
+#include "tests/ellipse_test_util.h"
 #include "tools/eval/overlap.h"
 
 namespace ellipsekit {
@@ -230,14 +231,7 @@ INSTANTIATE_TEST_SUITE_P(Backends, DetectorE2E, ::testing::Values(Backend::kScal
 TEST(DetectorE2EBackends, AutoAndScalarGiveIdenticalEllipses) {
   const Tally a = RunScenes(Backend::kScalar, false, 1000, 12);
   const Tally b = RunScenes(Backend::kAuto, false, 1000, 12);
-  ASSERT_EQ(a.detections.size(), b.detections.size());
-  for (std::size_t i = 0; i < a.detections.size(); ++i) {
-    EXPECT_EQ(a.detections[i].cx, b.detections[i].cx);
-    EXPECT_EQ(a.detections[i].cy, b.detections[i].cy);
-    EXPECT_EQ(a.detections[i].a, b.detections[i].a);
-    EXPECT_EQ(a.detections[i].b, b.detections[i].b);
-    EXPECT_EQ(a.detections[i].theta, b.detections[i].theta);
-  }
+  EXPECT_TRUE(test::SameEllipses(a.detections, b.detections));
 }
 
 }  // namespace

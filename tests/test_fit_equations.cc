@@ -19,41 +19,14 @@
 #include "fit/point_moments.h"
 #include "fit/validation.h"
 #include "kernels/arc_types.h"
+#include "tests/ellipse_test_util.h"
 
 namespace ellipsekit {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// A reference ellipse with its point and unit normal at parameter t.
-struct TrueEllipse {
-  double cx, cy, a, b, theta;
-
-  Eigen::Vector2d Point(double t) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double u = a * std::cos(t), v = b * std::sin(t);
-    return {cx + c * u - s * v, cy + s * u + c * v};
-  }
-  // Normalised gradient of (xo/a)^2 + (yo/b)^2 - 1 at Point(t) (outward normal).
-  Eigen::Vector2d Normal(double t) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double gu = std::cos(t) / a, gv = std::sin(t) / b;  // (2 xo / a^2, 2 yo / b^2) / 2
-    return Eigen::Vector2d(c * gu - s * gv, s * gu + c * gv).normalized();
-  }
-  // Normal at an arbitrary point (from the implicit function's gradient there).
-  Eigen::Vector2d NormalAt(const Eigen::Vector2d& p) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double dx = p.x() - cx, dy = p.y() - cy;
-    const double xo = dx * c + dy * s, yo = -dx * s + dy * c;
-    const double gu = xo / (a * a), gv = yo / (b * b);
-    return Eigen::Vector2d(c * gu - s * gv, s * gu + c * gv).normalized();
-  }
-  Ellipse AsEllipse() const {
-    Ellipse e;
-    e.cx = cx; e.cy = cy; e.a = a; e.b = b; e.theta = theta;
-    return e;
-  }
-};
+using test::TrueEllipse;
 
 Arc ArcOn(const TrueEllipse& e, double t0, double t1) {
   Arc arc;

@@ -26,37 +26,14 @@
 #include "fit/point_moments.h"
 #include "fit/validation.h"
 #include "kernels/arc_types.h"
+#include "tests/ellipse_test_util.h"
 
 namespace ellipsekit {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct Truth {
-  double cx, cy, a, b, theta;
-  Eigen::Vector2d Point(double t) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double u = a * std::cos(t), v = b * std::sin(t);
-    return {cx + c * u - s * v, cy + s * u + c * v};
-  }
-  Eigen::Vector2d Normal(double t) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double gu = std::cos(t) / a, gv = std::sin(t) / b;
-    return Eigen::Vector2d(c * gu - s * gv, s * gu + c * gv).normalized();
-  }
-  // (xo / a)^2 + (yo / b)^2 - 1 at p (eq. 14).
-  double Algebraic(const Eigen::Vector2d& p) const {
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double dx = p.x() - cx, dy = p.y() - cy;
-    const double xo = dx * c + dy * s, yo = dy * c - dx * s;
-    return xo * xo / (a * a) + yo * yo / (b * b) - 1;
-  }
-  Ellipse AsEllipse() const {
-    Ellipse e;
-    e.cx = cx; e.cy = cy; e.a = a; e.b = b; e.theta = theta;
-    return e;
-  }
-};
+using Truth = test::TrueEllipse;
 
 // Semi-axes 10-200 px, a / b up to 4, any orientation and sub-pixel centre.
 Truth RandomEllipse(std::mt19937* rng) {

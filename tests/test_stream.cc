@@ -10,6 +10,7 @@
 
 #include "ellipsekit/stream.h"
 #include "tools/scenes/scene_generator.h"
+#include "tests/ellipse_test_util.h"
 
 namespace {
 
@@ -39,15 +40,7 @@ void ExpectSame(const ellipsekit::DetectionResult& want, const ellipsekit::Strea
   ASSERT_TRUE(got.status.ok()) << "frame " << frame << ": " << got.status.message();
   ASSERT_EQ(got.tag, static_cast<std::uint64_t>(frame));
   const ellipsekit::DetectionResult& r = got.result;
-  ASSERT_EQ(r.ellipses.size(), want.ellipses.size()) << "frame " << frame;
-  for (std::size_t i = 0; i < r.ellipses.size(); ++i) {
-    EXPECT_EQ(r.ellipses[i].cx, want.ellipses[i].cx) << "frame " << frame;
-    EXPECT_EQ(r.ellipses[i].cy, want.ellipses[i].cy);
-    EXPECT_EQ(r.ellipses[i].a, want.ellipses[i].a);
-    EXPECT_EQ(r.ellipses[i].b, want.ellipses[i].b);
-    EXPECT_EQ(r.ellipses[i].theta, want.ellipses[i].theta);
-    EXPECT_EQ(r.ellipses[i].score, want.ellipses[i].score);
-  }
+  EXPECT_TRUE(ellipsekit::test::SameEllipses(r.ellipses, want.ellipses)) << "frame " << frame;
   EXPECT_EQ(r.num_edge_pixels, want.num_edge_pixels);
   EXPECT_EQ(r.num_arcs, want.num_arcs);
   EXPECT_EQ(r.num_candidates, want.num_candidates);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "ellipsekit/detector.h"
+#include "tests/ellipse_test_util.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
@@ -22,14 +23,7 @@ ellipsekit::DetectionResult DetectScene(ellipsekit::Detector* det) {
 }
 
 void ExpectSameEllipses(const ellipsekit::DetectionResult& a, const ellipsekit::DetectionResult& b) {
-  ASSERT_EQ(a.ellipses.size(), b.ellipses.size());
-  for (std::size_t i = 0; i < a.ellipses.size(); ++i) {
-    EXPECT_EQ(a.ellipses[i].cx, b.ellipses[i].cx);
-    EXPECT_EQ(a.ellipses[i].cy, b.ellipses[i].cy);
-    EXPECT_EQ(a.ellipses[i].a, b.ellipses[i].a);
-    EXPECT_EQ(a.ellipses[i].b, b.ellipses[i].b);
-    EXPECT_EQ(a.ellipses[i].theta, b.ellipses[i].theta);
-  }
+  EXPECT_TRUE(ellipsekit::test::SameEllipses(a.ellipses, b.ellipses));
 }
 
 ellipsekit::Options With(Backend b) {
