@@ -241,13 +241,16 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
     // rim along the normal over the part of the outline it hides, and is then taken for the rim (the
     // highest surface). With the rim's expected centre (a tracked object's prediction), a level more
     // than off_object_m from it is tried again without the samples above expected + off_object_m,
-    // and the level nearer the expectation is kept. A lid floor or a cup's contents below the rim are
+    // and the lower level is kept when it is nearer the expectation and covers more sectors. A lid floor or a cup's contents below the rim are
     // never reached this way (only samples above the expectation are left out).
     if (fit.ok && o.expected_centre && o.expected_centre->allFinite()) {
       const double expected = fit.n.dot(*o.expected_centre);
       if (std::abs(fit.level - expected) > o.off_object_m) {
         const Fit below = run(n0, false, expected + o.off_object_m);
-        if (below.ok && below.sectors >= min_sectors &&
+        // The occluder hides part of the outline, the rim shows around the rest: the lower level
+        // must cover at least as many of the 16 sectors. (So a wrong expectation -- a track started
+        // on the table -- cannot pull a rim seen all round down to a table seen on the far half.)
+        if (below.ok && below.sectors >= min_sectors && below.sectors >= fit.sectors &&
             std::abs(below.level - expected) < std::abs(fit.level - expected)) {
           fit = below;  // idx_ holds its inliers (the last run)
         } else {

@@ -19,7 +19,8 @@
 //  2b. With an expected centre (a tracked object's prediction): a taller object passing in front
 //     hides part of the outline and is higher than the rim, so the highest side can be its top; a
 //     level further than off_object_m from the expected height is tried again without the samples
-//     above it, and the level nearer the expectation is kept.
+//     above it, and the lower level is kept when it is nearer the expectation and its inliers cover
+//     at least as many angle sectors (the occluder hides a part of the outline; the rim shows around the rest).
 //  3. The rim level: mean shift on the heights with a Gaussian kernel as wide as the depth noise
 //     (estimated from neighbouring samples), started at the side's upper quartile, so it settles on
 //     the top mode (the rim) and not on the blend with a lid floor a few noise sigmas below.
