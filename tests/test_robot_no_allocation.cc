@@ -1,22 +1,15 @@
 // The robot loop's hot-path contract (include/ellipsekit/robot/frame_loop.h): after the first frame,
 // FrameLoop::ProcessFrame() -- detect, track, 3-D rim centres, conveyor, grasp -- allocates nothing.
 //
-// This binary interposes the C allocator itself, the way tests/test_no_allocation.cc does (malloc,
-// calloc, realloc, aligned_alloc, posix_memalign, memalign forwarded to glibc's __libc_* entry
-// points), so operator new and every library's allocations count. Counting is on only while a
-// thread_local flag is set around the call under test; the detector runs on the SIMD backend (no
-// Vulkan driver threads). The first few counted allocations keep a backtrace, printed on failure.
+// Allocations are counted by tests/alloc_counter.h (the C allocator interposed: operator new and
+// every library's allocations count) while the call under test runs; the detector runs on the
+// SIMD backend (no Vulkan driver threads). The first few keep a backtrace, printed on failure.
 // Frames come from the scene generator (ray-cast images and depth of real container geometry),
 // rendered before counting starts.
 //
 // Not under AddressSanitizer or ThreadSanitizer (whose runtime owns malloc): the suite skips there.
-#include <execinfo.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -30,107 +23,17 @@
 
 #include "ellipsekit/robot/circle_pose.h"
 #include "ellipsekit/robot/frame_loop.h"
+#include "tests/alloc_counter.h"
 #include "tools/scenes/scene_generator.h"
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define ELLIPSEKIT_COUNT_MALLOC 0
-#else
-#define ELLIPSEKIT_COUNT_MALLOC 1
-#endif
-
-namespace {
-
-std::atomic<long> g_count{0}, g_bytes{0};
-thread_local bool t_counting = false;
-thread_local bool t_in_hook = false;  // backtrace() may allocate: no recursion
-
-constexpr int kMaxTraces = 4, kTraceDepth = 32;
-void* g_traces[kMaxTraces][kTraceDepth];
-int g_trace_len[kMaxTraces];
-std::size_t g_trace_size[kMaxTraces];
-std::atomic<int> g_num_traces{0};
-
-void Record(std::size_t size) {
-  if (!t_counting || t_in_hook) return;
-  t_in_hook = true;
-  g_count.fetch_add(1, std::memory_order_relaxed);
-  g_bytes.fetch_add(static_cast<long>(size), std::memory_order_relaxed);
-  const int slot = g_num_traces.fetch_add(1);
-  if (slot < kMaxTraces) {
-    g_trace_len[slot] = backtrace(g_traces[slot], kTraceDepth);
-    g_trace_size[slot] = size;
-  }
-  t_in_hook = false;
-}
-
-}  // namespace
-
-#if ELLIPSEKIT_COUNT_MALLOC
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-
-void* malloc(std::size_t n) {
-  Record(n);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t count, std::size_t n) {
-  Record(count * n);
-  return __libc_calloc(count, n);
-}
-void* realloc(void* p, std::size_t n) {
-  Record(n);
-  return __libc_realloc(p, n);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t n) {
-  Record(n);
-  return __libc_memalign(alignment, n);
-}
-void* memalign(std::size_t alignment, std::size_t n) {
-  Record(n);
-  return __libc_memalign(alignment, n);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t n) {
-  Record(n);
-  void* p = __libc_memalign(alignment, n);
-  if (p == nullptr) return ENOMEM;
-  *out = p;
-  return 0;
-}
-void free(void* p) { __libc_free(p); }
-}  // extern "C"
-#endif
 
 namespace {
 
 namespace er = ellipsekit::robot;
 namespace sc = ellipsekit::scenes;
 
-struct Count {
-  long allocations = 0, bytes = 0;
-};
-
-template <class F>
-Count Counted(F&& f) {
-  g_count = 0;
-  g_bytes = 0;
-  g_num_traces = 0;
-  t_counting = true;
-  f();
-  t_counting = false;
-  return {g_count.load(), g_bytes.load()};
-}
-
-void PrintTraces() {
-  const int n = std::min(g_num_traces.load(), kMaxTraces);
-  for (int i = 0; i < n; ++i) {
-    std::fprintf(stderr, "  allocation %d (%zu bytes) from:\n", i + 1, g_trace_size[i]);
-    backtrace_symbols_fd(g_traces[i], g_trace_len[i], STDERR_FILENO);
-  }
-}
+using Count = ellipsekit::test::AllocationCount;
+using ellipsekit::test::CountAllocations;
+using ellipsekit::test::PrintAllocationTraces;
 
 // One rendered frame, owned.
 struct Frame {
@@ -220,7 +123,7 @@ enum class DepthMode { kRimPlane, kInterior, kNone };
 // Expects zero allocations per later frame, and that the loop did its work (tracks with 3-D
 // positions; a grasp decision on the conveyor).
 void ExpectNoAllocationPerFrame(const Sequence& s, DepthMode mode, const char* what) {
-  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc; counted in the plain build";
+  if (!ellipsekit::test::kCountsAllocations) GTEST_SKIP() << "the sanitizer's runtime owns malloc; counted in the plain build";
   ASSERT_GE(s.frames.size(), 3u);
   er::FrameLoopOptions opt;
   opt.detector.backend = ellipsekit::Backend::kSimd;
@@ -243,7 +146,7 @@ void ExpectNoAllocationPerFrame(const Sequence& s, DepthMode mode, const char* w
     const er::DepthImageView dv = DepthView(f.depth_mm);
     const er::DepthImageView* dp = mode == DepthMode::kNone ? nullptr : &dv;
     ellipsekit::Status st;
-    const Count c = Counted([&] { st = loop.ProcessFrame(View(f.gray), dp, f.t, &out); });
+    const Count c = CountAllocations([&] { st = loop.ProcessFrame(View(f.gray), dp, f.t, &out); });
     ASSERT_TRUE(st.ok()) << st.message();
     for (const er::TrackOutput& t : out.tracks) {
       with_position += t.detected && t.has_position;
@@ -259,7 +162,7 @@ void ExpectNoAllocationPerFrame(const Sequence& s, DepthMode mode, const char* w
     if (c.allocations != 0) {
       std::fprintf(stderr, "ALLOCATION FOUND: %s, frame %zu: ProcessFrame allocated %ld times (%ld bytes); first "
                            "backtraces:\n", what, i, c.allocations, c.bytes);
-      PrintTraces();
+      PrintAllocationTraces();
     }
     EXPECT_EQ(c.allocations, 0) << what << ", frame " << i << ": ProcessFrame allocated after the first frame";
   }
@@ -299,7 +202,7 @@ TEST(RobotNoAllocation, CrossingFilledCupAndRecessedCan) {
 
 // The circle pose through lens distortion (the boundary is undistorted and refit in fixed storage).
 TEST(RobotNoAllocation, CirclePoseWithDistortion) {
-  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
+  if (!ellipsekit::test::kCountsAllocations) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
   const er::CameraModel cam =
       er::CameraModel::FromIntrinsics(525, 525, 319.5, 239.5, {0.12, -0.25, 0.001, -0.002, 0.08}, 640, 480);
   ellipsekit::Ellipse e;
@@ -309,30 +212,34 @@ TEST(RobotNoAllocation, CirclePoseWithDistortion) {
   e.b = 18;
   e.theta = 0.2;
   bool ok = false;
-  const Count c = Counted([&] { ok = er::CirclePoseByNormal(e, 0.033, cam, Eigen::Vector3d(0, -0.7, -0.7)).ok(); });
+  const Count c = CountAllocations([&] { ok = er::CirclePoseByNormal(e, 0.033, cam, Eigen::Vector3d(0, -0.7, -0.7)).ok(); });
   ASSERT_TRUE(ok);
-  if (c.allocations != 0) PrintTraces();
+  if (c.allocations != 0) PrintAllocationTraces();
   EXPECT_EQ(c.allocations, 0) << "CirclePoseByNormal with distortion allocated";
 }
 
 // The counter itself works (a hook that is not linked in would pass everything): operator new and
 // each C entry point count once.
 TEST(RobotNoAllocation, CounterSeesAllocations) {
-  if (!ELLIPSEKIT_COUNT_MALLOC) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
-  int* p = nullptr;
+  if (!ellipsekit::test::kCountsAllocations) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
+  // A std::string that outlives the counted call: operator new cannot be elided.
+  std::string* p = nullptr;
+  const Count just_new = CountAllocations([&] { p = new std::string(100, 'x'); });
+  delete p;
   void *m = nullptr, *k = nullptr, *a = nullptr;
-  const Count c = Counted([&] {
-    p = new int[100];
+  const Count c = CountAllocations([&] {
+    p = new std::string(100, 'x');
     m = std::malloc(64);
     k = std::calloc(4, 16);
     m = std::realloc(m, 4096);
     a = std::aligned_alloc(64, 128);
   });
-  delete[] p;
+  delete p;
   std::free(m);
   std::free(k);
   std::free(a);
-  EXPECT_EQ(c.allocations, 5);
+  EXPECT_GE(just_new.allocations, 1);
+  EXPECT_EQ(c.allocations, just_new.allocations + 4);
 }
 
 }  // namespace
