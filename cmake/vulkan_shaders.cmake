@@ -1,15 +1,14 @@
 # Build-time SPIR-V: every shaders/<name>.comp is compiled by glslangValidator (Vulkan 1.1 target),
 # validated by spirv-val, and embedded as a uint32_t array in a generated header
 #   ${CMAKE_BINARY_DIR}/generated/shaders/<name>.spv.h   ->   const uint32_t k<Name>Spv[] = {...};
-# (e.g. kNmsSpv, kHysteresisEdgeSignSpv). No shader compiler is needed at run time.
+# (e.g. kNmsEdgeSignSpv, kHysteresisRmwSpv). No shader compiler is needed at run time.
 #
 #   include(cmake/vulkan_shaders.cmake)
-#   ellipsekit_embed_vulkan_shaders(<target> <shader folder or a .comp file in it>...)
-# embeds every *.comp file of the named folders (a named file only names its folder, so a list of
-# files that is out of date, naming a shader since fused away or missing a new one, still embeds
-# exactly the shaders that exist), adds the headers to <target> (so they are generated before it
-# compiles) and puts ${CMAKE_BINARY_DIR}/generated on its private include path:
-# #include "shaders/nms.spv.h".
+#   ellipsekit_embed_vulkan_shaders(<target> <shader folder>...)
+# embeds every *.comp file of the named folders (found again at build time, so a shader added,
+# renamed or fused away needs no list edited), adds the headers to <target> (so they are generated
+# before it compiles) and puts ${CMAKE_BINARY_DIR}/generated on its private include path:
+# #include "shaders/nms_edge_sign.spv.h". (A .comp file named instead of a folder stands for its folder.)
 # Sets ELLIPSEKIT_VULKAN_SHADER_TOOLS_FOUND in the caller's scope.
 find_program(ELLIPSEKIT_GLSLANG_VALIDATOR NAMES glslangValidator glslang)
 find_program(ELLIPSEKIT_SPIRV_VAL NAMES spirv-val)

@@ -6,6 +6,9 @@
 # Usage: scripts/bench.sh [extra ellipsekit_bench flags, e.g. --benchmark_filter=...]
 #        scripts/bench.sh --python [COUNT]   the Python batch runner's throughput (see below)
 # ELLIPSEKIT_BENCH_MIN_TIME (seconds per benchmark, default 0.2) trades run time for noise.
+# ELLIPSEKIT_BUILD_DIR picks the build tree (default build/), ELLIPSEKIT_BENCH_OUT the output
+# folder (default out/bench). A quick look at the Vulkan edge stage alone, for example:
+#   ELLIPSEKIT_BENCH_MIN_TIME=0.05 scripts/bench.sh --benchmark_filter='^edge_stage/'
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -14,25 +17,24 @@ scripts/setup.sh
 # scripts/bench.sh --python [COUNT]: only the batch runner's throughput (python/bench/batch_throughput.py):
 # images per second of `python3 -m ellipsekit.batch` with 1 and 2 local workers against
 # `ellipsekit detect --warmup 0` over COUNT (default 2000) generated 640x480 scenes -> out/bench/batch.md.
-# ELLIPSEKIT_BUILD_DIR picks the build tree (default build/).
+build_dir="${ELLIPSEKIT_BUILD_DIR:-build}"
 if [[ "${1:-}" == "--python" ]]; then
-  build_dir="${ELLIPSEKIT_BUILD_DIR:-build}"
   cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build "$build_dir" -j2 --target ellipsekit_cli ellipsekit_python
   python=$(sed -n 's/^Python_EXECUTABLE:FILEPATH=//p' "$build_dir/CMakeCache.txt")
   exec "${python:-python3}" python/bench/batch_throughput.py --build "$build_dir" --count "${2:-2000}" --out out/bench
 fi
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DELLIPSEKIT_BUILD_BENCH=ON >/dev/null
-cmake --build build -j2 --target ellipsekit_bench ellipsekit_plot
+cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DELLIPSEKIT_BUILD_BENCH=ON >/dev/null
+cmake --build "$build_dir" -j2 --target ellipsekit_bench ellipsekit_plot
 
-out=out/bench
+out="${ELLIPSEKIT_BENCH_OUT:-out/bench}"
 mkdir -p "$out"
 min_time="${ELLIPSEKIT_BENCH_MIN_TIME:-0.2}"
-echo "bench.sh: running build/bin/ellipsekit_bench (min_time ${min_time}s per benchmark) -> $out/bench.json" >&2
-build/bin/ellipsekit_bench --benchmark_format=json --benchmark_out_format=json \
+echo "bench.sh: running $build_dir/bin/ellipsekit_bench (min_time ${min_time}s per benchmark) -> $out/bench.json" >&2
+"$build_dir/bin/ellipsekit_bench" --benchmark_format=json --benchmark_out_format=json \
   --benchmark_out="$out/bench.json" --benchmark_min_time="$min_time" "$@" >/dev/null
 
-python3 - "$out" <<'PY'
+python3 - "$out" "$build_dir" <<'PY'
 import json, statistics, sys
 out = sys.argv[1]
 data = json.load(open(f"{out}/bench.json"))
@@ -64,7 +66,7 @@ sizes = ["640x480", "1280x720", "1920x1080"]
 kernels = ["gaussian", "sobel", "canny_thresholds", "nms", "hysteresis", "edge_sign"]
 ctx = data.get("context", {})
 lines = ["# ellipsekit benchmark ratios", "",
-         f"One run of `build/bin/ellipsekit_bench` ({ctx.get('date', '?')}, {ctx.get('num_cpus', '?')} CPUs "
+         f"One run of `{sys.argv[2]}/bin/ellipsekit_bench` ({ctx.get('date', '?')}, {ctx.get('num_cpus', '?')} CPUs "
          f"at {ctx.get('mhz_per_cpu', '?')} MHz, load average {ctx.get('load_avg', '?')}). "
          "Ratios are wall-time ratios A / B: below 1 means A is faster. OpenCV single-threaded.", ""]
 
@@ -101,8 +103,16 @@ if ran_targets:
     if skipped_t:
         lines += [f"Skipped Highway targets (not supported by this CPU): {', '.join(skipped_t)}.", ""]
 
+# Wall times come from edge_stage/vulkan/<size> (no timestamps); device times from
+# edge_stage/vulkan_steps/<size>, the same frames with a timestamp around each of the three
+# dispatches (which cost time of their own, so its wall time is the larger).
+def device_ms(s):
+    v = runs.get(f"edge_stage/vulkan_steps/{s}")
+    d = v.get("device_ms") if v else None
+    return d if d is not None and d >= 0 else None
+
 lines += ["## Vulkan / SIMD edge stage (warm, transfers included)", "",
-          "| size | Vulkan wall ms | Vulkan device ms | SIMD ms | Vulkan / SIMD (wall) | Vulkan / SIMD (device) | device |",
+          "| size | Vulkan wall ms | Vulkan device ms (timestamps) | SIMD ms | Vulkan / SIMD (wall) | Vulkan / SIMD (device) | device |",
           "|---|---|---|---|---|---|---|"]
 for s in sizes:
     v = runs.get(f"edge_stage/vulkan/{s}")
@@ -111,21 +121,21 @@ for s in sizes:
         why = skipped.get(f"edge_stage/vulkan/{s}", "not run")
         lines.append(f"| {s} | skipped: {why} | | {fmt(simd)} | | | |")
         continue
-    dev = v.get("device_ms")
-    dev = dev if dev is not None and dev >= 0 else None
+    dev = device_ms(s)
     lines.append(f"| {s} | {fmt(v['ms'])} | {fmt(dev)} | {fmt(simd)} | {fmt(ratio(v['ms'], simd))} | {fmt(ratio(dev, simd))} | {v.get('label', '')} |")
 lines.append("")
 
-steps = ["gaussian", "sobel", "thresholds", "nms", "hysteresis", "edge_sign"]
-lines += ["### Vulkan device time per shader step (ms, timestamps); 64x48: the fixed cost per frame", "",
-          "| size | " + " | ".join(steps) + " | device | wall | cold wall (new stage + first frame) | SIMD wall |",
-          "|---|" + "---|" * (len(steps) + 4)]
+steps = ["gaussian_sobel_thresholds", "nms_edge_sign", "hysteresis"]
+lines += ["### Vulkan device time per dispatch (ms, `edge_stage/vulkan_steps`); 64x48: the fixed cost per frame", "",
+          "| size | " + " | ".join(steps) + " | device | wall with timestamps | wall | cold wall (new stage + first frame) | SIMD wall |",
+          "|---|" + "---|" * (len(steps) + 5)]
 for s in sizes + ["64x48"]:
-    v = runs.get(f"edge_stage/vulkan/{s}")
-    if v is None:
+    v = runs.get(f"edge_stage/vulkan_steps/{s}")
+    if v is None and ms(f"edge_stage/vulkan/{s}") is None:
         continue
-    cells = [fmt(v.get(f"{st}_ms")) for st in steps]
-    lines.append(f"| {s} | " + " | ".join(cells) + f" | {fmt(v.get('device_ms'))} | {fmt(v['ms'])} | {fmt(ms(f'edge_stage/vulkan_cold/{s}'))} | {fmt(ms(f'edge_stage/simd/{s}'))} |")
+    cells = [fmt(v.get(f"{st}_ms") if v else None) for st in steps]
+    lines.append(f"| {s} | " + " | ".join(cells) + f" | {fmt(device_ms(s))} | {fmt(v['ms'] if v else None)} | {fmt(ms(f'edge_stage/vulkan/{s}'))} | "
+                 f"{fmt(ms(f'edge_stage/vulkan_cold/{s}'))} | {fmt(ms(f'edge_stage/simd/{s}'))} |")
 lines.append("")
 
 lines += ["## End to end: detect() / (3x3 blur + cv::Canny) on the same image (median of per-image ratios)", "",
@@ -171,6 +181,10 @@ with open(f"{out}/stages.tsv", "w") as f:
     f.write("\n".join(rows) + "\n")
 PY
 
-build/bin/ellipsekit_plot "$out/stages.tsv" "$out/stages.png"
-echo "bench.sh: wrote $out/bench.json, $out/ratios.md, $out/stages.png" >&2
+wrote="$out/bench.json, $out/ratios.md"
+if grep -q '^total' "$out/stages.tsv"; then  # a run filtered to no detect/*/scenes/* has nothing to plot
+  "$build_dir/bin/ellipsekit_plot" "$out/stages.tsv" "$out/stages.png"
+  wrote+=", $out/stages.png"
+fi
+echo "bench.sh: wrote $wrote" >&2
 cat "$out/ratios.md"
