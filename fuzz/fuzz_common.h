@@ -37,7 +37,7 @@ class Reader {
 // range enumerators too, backend included).
 void EditOption(int field, int v, Options* o);
 
-// The fields EditOption leaves alone (field % 10): the later additions to the validation
+// The fields EditOption leaves alone (field % 12): the later additions to the validation
 // (pair candidates, edge coverage, exclusive support, b/a floor, outer rims, refits). Out-of-range
 // and non-finite values too.
 void EditOptionMore(int field, int v, Options* o);

@@ -148,7 +148,8 @@ ELLIPSEKIT_FUZZ_NO_COVERAGE void DrawFrame(Reader* in, int w, int h, std::vector
   const double background = in->U8();
   const int amplitude = in->U8() % 16;
   const int shapes = in->U8() % 13;
-  std::vector<double> canvas(static_cast<std::size_t>(w) * h, background);
+  static std::vector<double> canvas;  // reused: no allocation per input once the largest frame was drawn
+  canvas.assign(static_cast<std::size_t>(w) * h, background);
   auto place = [](int byte, double sub, int extent) { return -8 + (extent + 16) * (byte + sub) / 256.0; };
   for (int i = 0; i < shapes; ++i) {
     const int bx = in->U8(), by = in->U8(), ba = in->U8(), bb = in->U8(), bt = in->U8(), gray = in->U8(),
@@ -301,7 +302,7 @@ int DetectCpuOneInput(const std::uint8_t* data, std::size_t size) {
     buffer_size = static_cast<std::size_t>(h - 1) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(w);
     buffer = std::make_unique<std::uint8_t[]>(buffer_size);
     if (flags & 0x01) {
-      std::vector<std::uint8_t> frame;
+      static std::vector<std::uint8_t> frame;
       DrawFrame(&in, w, h, &frame);
       std::fill_n(buffer.get(), buffer_size, static_cast<std::uint8_t>(255 - frame[0]));  // padding
       for (int y = 0; y < h; ++y)
@@ -324,7 +325,9 @@ int DetectCpuOneInput(const std::uint8_t* data, std::size_t size) {
 
   Detector* const* detectors = Detectors(options_bytes, options, known_backend);
   Status made[2], ran[2];
-  DetectionResult result[2], again;
+  // Reused across inputs, as a caller reuses its result (detect() clears it; its vectors keep
+  // their capacity, which the no-allocation contract counts on).
+  static DetectionResult result[2], again;
   for (int i = 0; i < 2; ++i) {
     Detector& det = *detectors[i];
     const Options& o = det.options();
