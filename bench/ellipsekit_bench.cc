@@ -13,6 +13,7 @@
 //                                         counters <step>_ms and device_ms; | vulkan_cold)
 //   arc_stage/<backend>/<input>           curves in -> polylines, splits, arc stats out (the three
 //                                         Arcs kernels chained); scalar | vulkan (warm, transfers in)
+//                                         | vulkan_timed (with device timestamps: counter device_ms)
 //   opencv/<sobel|canny|blur_canny>/<W>x<H>
 //   detect/<backend>/<prasad|photos|scenes>/<image>   Detector::detect on the image at its own
 //                                         size; photos: the other shared datasets' images,
@@ -28,7 +29,8 @@
 //   memory/<backend>/<W>x<H>              heap a Detector holds after one frame, per pixel
 //                                         (bench/memory_bench.h); counter bytes_per_px
 //   stream/<backend>/scenes200/depth:<d>  a Stream over the 200 scenes (bench/stream_bench.h);
-//                                         items/s = frames/s, latency_median_ms, latency_p99_ms
+//                                         items/s = frames/s, latency_median_ms, latency_p99_ms,
+//                                         cpu_ms_per_frame; .../detect: the detect() loop beside it
 // Test frames for kernels / edge stage: the first prasad image, resized (cv::resize) to each size,
 // so the edge density is realistic. OpenCV runs single-threaded (cv::setNumThreads(1)).
 #include <benchmark/benchmark.h>
@@ -445,8 +447,9 @@ void BM_EdgeStageVulkanCold(benchmark::State& st, Size s) {
 // ---- the whole arc stage on one frame's curves (ArcInputsFor): polyline -> arc_split -> arc_stats,
 // each fed the one before, as fit/arc_selection.cc runs them. scalar: the reference kernels;
 // vulkan: runtime/vulkan_arc_stage.h, warm (an untimed first Run sizes its buffers), upload and
-// download included. Outputs are checked against the scalar reference after the timed loop.
-void BM_ArcStage(benchmark::State& st, bool vulkan, const std::string& input) {
+// download included; timed: with the device timestamps (VulkanArcStage::set_timing), counter
+// device_ms. Outputs are checked against the scalar reference after the timed loop.
+void BM_ArcStage(benchmark::State& st, bool vulkan, bool timed, const std::string& input) {
   const ArcInputs* in = ArcInputsFor(input);
   if (in == nullptr) { st.SkipWithError(("no frame for input " + input).c_str()); return; }
   const ek::Options o;
@@ -469,6 +472,11 @@ void BM_ArcStage(benchmark::State& st, bool vulkan, const std::string& input) {
     static std::unique_ptr<ek::VulkanArcStage> stage;
     static const ek::Status created = ek::VulkanArcStage::Create(&stage);
     if (!created.ok()) { st.SkipWithError(created.message().c_str()); return; }
+    struct Timing {  // on for this benchmark only (the stage is shared)
+      ek::VulkanArcStage* stage;
+      ~Timing() { stage->set_timing(false); }
+    } timing{stage.get()};
+    stage->set_timing(timed);
     ek::Status rs = stage->Run(in->curves, tol, tan_q16, o.min_curve_points, &polylines, &splits, &stats);
     if (!rs.ok()) { st.SkipWithError(("Vulkan arc stage failed: " + rs.message()).c_str()); return; }
     double device_ms = 0, compact_ms = 0;
@@ -480,7 +488,7 @@ void BM_ArcStage(benchmark::State& st, bool vulkan, const std::string& input) {
       compact_ms += stage->last_compact_ms();
     }
     if (st.error_occurred()) return;
-    st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
+    if (timed) st.counters["device_ms"] = benchmark::Counter(device_ms, benchmark::Counter::kAvgIterations);
     st.counters["compact_ms"] = benchmark::Counter(compact_ms, benchmark::Counter::kAvgIterations);
     st.counters["rounds"] = stage->last_rounds();
     st.SetLabel(stage->device_name());
@@ -594,9 +602,11 @@ void Register() {
   for (const char* input : {"scene", "prasad"}) {
     const std::string in(input);
     benchmark::RegisterBenchmark(("arc_stage/scalar/" + in).c_str(),
-                                 [in](benchmark::State& st) { BM_ArcStage(st, false, in); })->UseRealTime();
+                                 [in](benchmark::State& st) { BM_ArcStage(st, false, false, in); })->UseRealTime();
     benchmark::RegisterBenchmark(("arc_stage/vulkan/" + in).c_str(),
-                                 [in](benchmark::State& st) { BM_ArcStage(st, true, in); })->UseRealTime();
+                                 [in](benchmark::State& st) { BM_ArcStage(st, true, false, in); })->UseRealTime();
+    benchmark::RegisterBenchmark(("arc_stage/vulkan_timed/" + in).c_str(),
+                                 [in](benchmark::State& st) { BM_ArcStage(st, true, true, in); })->UseRealTime();
   }
 
   for (Size s : kSizes) {

@@ -125,7 +125,7 @@ void VulkanArcStage::Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t curv
 
 // Pending flags cleared; kRoundsPerSubmit x (polyline, arc_split, arc_stats) with a barrier after
 // each; downloads of counts | vertex slots | split slots | arc planes (plane stride = this frame's
-// points); the closing timestamp. The caller begins the command buffer; Submit ends it.
+// points); the closing timestamp (with timing on). The caller begins the command buffer; Submit ends it.
 void VulkanArcStage::RecordRoundsAndDownload(VkCommandBuffer cb) {
   const VulkanFunctions& vk = ctx_->vk();
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
@@ -149,16 +149,16 @@ void VulkanArcStage::RecordRoundsAndDownload(VkCommandBuffer cb) {
   for (int i = 0; i < 4; ++i) vk.vkCmdCopyBuffer(cb, buffers_[down_src[i]].buffer, download_.buffer, 1, &downs[i]);
   program_.Barrier(cb, kTransfer | kCompute, VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
           VK_ACCESS_HOST_READ_BIT);
-  program_.Timestamp(cb, 1);
+  if (timing_) program_.Timestamp(cb, 1);
 }
 
-// Ends, submits and waits for `cb`; adds its device time to *device_ms.
+// Ends, submits and waits for `cb`; adds its device time to *device_ms (with timing on).
 Status VulkanArcStage::Submit(VkCommandBuffer cb, double* device_ms) {
   const VkResult r = ctx_->vk().vkEndCommandBuffer(cb);
   if (r != VK_SUCCESS) return VulkanFailure("vkEndCommandBuffer", r);
   Status st = program_.SubmitAndWait(cb);
   if (!st.ok()) return st;
-  program_.AddDeviceMs(device_ms);
+  if (timing_) program_.AddDeviceMs(device_ms);
   return Status::Ok();
 }
 
@@ -223,7 +223,7 @@ Status VulkanArcStage::Run(const Curves& curves, std::int32_t tol_q16, std::int6
   const VkCommandBuffer cb = program_.command_buffer(0), more_rounds_cb = program_.command_buffer(1);
   vk.vkResetCommandBuffer(cb, 0);
   vk.vkBeginCommandBuffer(cb, &begin);
-  program_.StartTimestamps(cb, 0, 2);
+  if (timing_) program_.StartTimestamps(cb, 0, 2);
   // Upload, and every curve to phase 0 (not started). The previous Run's reads are done (fence),
   // so no WAR barrier is needed.
   const VkBufferCopy ups[6] = {{0, 0, 4 * p}, {4 * p, 0, 4 * p}, {8 * p, 0, 4 * p}, {12 * p, 0, 4 * (c + 1)},
@@ -250,12 +250,12 @@ Status VulkanArcStage::Run(const Curves& curves, std::int32_t tol_q16, std::int6
     if (rounds >= max_rounds) return {StatusCode::kInternal, "Vulkan arc stage did not finish within its step bound"};
     vk.vkResetCommandBuffer(more_rounds_cb, 0);
     vk.vkBeginCommandBuffer(more_rounds_cb, &begin);
-    program_.StartTimestamps(more_rounds_cb, 0, 2);
+    if (timing_) program_.StartTimestamps(more_rounds_cb, 0, 2);
     RecordRoundsAndDownload(more_rounds_cb);
     st = Submit(more_rounds_cb, &device_ms);
     if (!st.ok()) return st;
   }
-  last_device_ms_ = program_.timed() ? device_ms : -1;
+  last_device_ms_ = timing_ && program_.timed() ? device_ms : -1;
 
   ctx_->InvalidateForHostReads(download_);
   const auto t0 = std::chrono::steady_clock::now();

@@ -26,7 +26,8 @@
 // of one SIMD group loop about equally long.
 // Per Run: one host-visible staging upload (x, y, packed gx|gy, offset, sign_class, order), one command
 // buffer: upload copies -> kRoundsPerSubmit rounds -> downloads of the counts and slot arrays into
-// one host-visible buffer; one fence wait. Only when a curve is still pending after that (RDP is
+// one host-visible buffer; one fence wait. Device timestamps around each submit only when asked for
+// (set_timing): on lavapipe a timestamp costs about what a dispatch does (docs/vulkan.md). Only when a curve is still pending after that (RDP is
 // O(length^2) steps in the worst case; every dataset frame finishes in the first submit) does a
 // second command buffer run kRoundsPerSubmit more rounds + the downloads, as often as needed
 // (bounded: each round advances every pending curve by kStepsPerDispatch steps).
@@ -73,7 +74,11 @@ class VulkanArcStage {
   Status Run(const Curves& curves, std::int32_t tol_q16, std::int64_t tan_q16, int min_points, Polylines* polylines,
              Splits* splits, std::vector<ArcStats>* stats);
 
-  // Device time of the last Run (GPU timestamps, transfers included); -1 without timestamps.
+  // Device timestamps around each submit, off by default: on lavapipe they cost time of their own
+  // (docs/vulkan.md), so only a caller that reads last_device_ms() turns them on.
+  void set_timing(bool on) { timing_ = on; }
+  // Device time of the last Run (GPU timestamps, transfers included); -1 when timing is off or
+  // the queue has no timestamps.
   double last_device_ms() const { return last_device_ms_; }
   // Host time of the last Run's prefix sum + compaction into the output structs.
   double last_compact_ms() const { return last_compact_ms_; }
@@ -111,6 +116,7 @@ class VulkanArcStage {
   std::vector<std::int32_t> order_;  // sized with the buffers (Reserve), sorted per Run
   double last_device_ms_ = -1, last_compact_ms_ = 0;
   int last_rounds_ = 0;
+  bool timing_ = false;
 };
 
 }  // namespace ellipsekit
