@@ -155,6 +155,9 @@ void ExpectNoAllocationPerFrame(const Sequence& s, DepthMode mode, const char* w
     grasps += out.grasp.plan.decision == er::GraspDecision::kGrasp;
     if (i == 0) {
       std::printf("[robot-alloc] %s: first frame %ld allocations (%ld bytes)\n", what, c.allocations, c.bytes);
+      // The first frame sizes the loop's buffers: none counted would mean the counter is not linked in
+      // (tests/alloc_counter.h's own check is NoAllocation.CounterSeesAllocations).
+      EXPECT_GT(c.allocations, 0) << what << ": the first frame allocated nothing: is the counter linked in?";
       continue;
     }
     total += c.allocations;
@@ -216,30 +219,6 @@ TEST(RobotNoAllocation, CirclePoseWithDistortion) {
   ASSERT_TRUE(ok);
   if (c.allocations != 0) PrintAllocationTraces();
   EXPECT_EQ(c.allocations, 0) << "CirclePoseByNormal with distortion allocated";
-}
-
-// The counter itself works (a hook that is not linked in would pass everything): operator new and
-// each C entry point count once.
-TEST(RobotNoAllocation, CounterSeesAllocations) {
-  if (!ellipsekit::test::kCountsAllocations) GTEST_SKIP() << "the sanitizer's runtime owns malloc";
-  // A std::string that outlives the counted call: operator new cannot be elided.
-  std::string* p = nullptr;
-  const Count just_new = CountAllocations([&] { p = new std::string(100, 'x'); });
-  delete p;
-  void *m = nullptr, *k = nullptr, *a = nullptr;
-  const Count c = CountAllocations([&] {
-    p = new std::string(100, 'x');
-    m = std::malloc(64);
-    k = std::calloc(4, 16);
-    m = std::realloc(m, 4096);
-    a = std::aligned_alloc(64, 128);
-  });
-  delete p;
-  std::free(m);
-  std::free(k);
-  std::free(a);
-  EXPECT_GE(just_new.allocations, 1);
-  EXPECT_EQ(c.allocations, just_new.allocations + 4);
 }
 
 }  // namespace
