@@ -94,6 +94,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
   if (pts_.capacity() < most) pts_.reserve(most);
   if (tmp_.capacity() < most) tmp_.reserve(most);
   if (idx_.capacity() < most) idx_.reserve(most);
+  if (fit_idx_.capacity() < most) fit_idx_.reserve(most);
   RimSample out;
   for (int k = 0; k < n_ang; ++k) {
     const double phi = 2 * kPi * k / n_ang, cp = std::cos(phi), sp = std::sin(phi);
@@ -125,8 +126,9 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
   const Eigen::Vector2d ne = camera.UndistortPixel(Eigen::Vector2d(e.cx, e.cy));
   const Eigen::Vector3d ray_e(ne.x(), ne.y(), 1);
 
-  // Steps 2-4 for one normal: side, rim level, inliers (idx_), plane offset. With `refit`, the plane
-  // (normal too) is then fitted to the inliers and the gate applied once more.
+  // Steps 2-4 for one normal: side, rim level, inliers (into idx_; keep() below moves a chosen
+  // fit's to fit_idx_), plane offset. With `refit`, the plane (normal too) is then fitted to the
+  // inliers and the gate applied once more.
   struct Fit {
     Eigen::Vector3d n;
     double d = 0, noise = 0, rms = 0;
@@ -232,17 +234,25 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
   };
 
   Fit fit;
+  // Takes the fit just run (its inliers are in idx_) as the chosen one: its inliers move to
+  // fit_idx_ (a swap of equally reserved vectors: no copy, no allocation), and the next run()
+  // reuses idx_.
+  auto keep = [&](const Fit& f) {
+    fit = f;
+    idx_.swap(fit_idx_);
+  };
   int min_sectors = o.min_sectors;
   if (o.plane_normal) {
     if (!(o.plane_normal->allFinite() && o.plane_normal->norm() > 1e-9)) return fail(Failure::kBadNormal);
     const Eigen::Vector3d n0 = o.plane_normal->normalized();
-    fit = run(n0, false, INFINITY);
+    keep(run(n0, false, INFINITY));
     // An occluder in front of the rim (a taller object passing nearer the camera) is higher than the
     // rim along the normal over the part of the outline it hides, and is then taken for the rim (the
     // highest surface). With the rim's expected centre (a tracked object's prediction), a level more
     // than off_object_m from it is tried again without the samples above expected + off_object_m,
-    // and the lower level is kept when it is nearer the expectation and covers more sectors. A lid floor or a cup's contents below the rim are
-    // never reached this way (only samples above the expectation are left out).
+    // and the lower level is kept when it is nearer the expectation and covers at least as many
+    // sectors. A lid floor or a cup's contents below the rim are never reached this way (only
+    // samples above the expectation are left out).
     if (fit.ok && o.expected_centre && o.expected_centre->allFinite()) {
       const double expected = fit.n.dot(*o.expected_centre);
       if (std::abs(fit.level - expected) > o.off_object_m) {
@@ -251,11 +261,8 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
         // must cover at least as many of the 16 sectors. (So a wrong expectation -- a track started
         // on the table -- cannot pull a rim seen all round down to a table seen on the far half.)
         if (below.ok && below.sectors >= min_sectors && below.sectors >= fit.sectors &&
-            std::abs(below.level - expected) < std::abs(fit.level - expected)) {
-          fit = below;  // idx_ holds its inliers (the last run)
-        } else {
-          fit = run(n0, false, INFINITY);  // idx_ back to the first level's inliers
-        }
+            std::abs(below.level - expected) < std::abs(fit.level - expected))
+          keep(below);
       }
     }
   } else {
@@ -265,16 +272,10 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       return fail(Failure::kInner);
     }
     min_sectors = std::max(min_sectors, 8);
-    int best_k = -1;
-    for (int k = 0; k < 2; ++k) {
-      Fit f = run(cand.value[static_cast<std::size_t>(k)].normal, true, INFINITY);
-      if (f.ok && (!fit.ok || f.inliers > fit.inliers)) {
-        fit = f;
-        best_k = k;
-      }
+    for (const CirclePose& c : cand.value) {
+      const Fit f = run(c.normal, true, INFINITY);
+      if (f.ok && (!fit.ok || f.inliers > fit.inliers)) keep(f);
     }
-    // idx_ must hold the chosen candidate's inliers.
-    if (best_k == 0) fit = run(cand.value[0].normal, true, INFINITY);
   }
   if (!fit.ok || fit.inliers < o.min_inliers) return fail(Failure::kTooFewOnPlane);
   if (fit.sectors < min_sectors) {
@@ -308,7 +309,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
       Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
       int used = 0;
-      for (int i : idx_) {
+      for (int i : fit_idx_) {
         const Eigen::Vector3d& X = pts_[static_cast<std::size_t>(i)].X;
         const double x = u.dot(X), y = v.dot(X);
         if (pass == 1 && std::abs(std::hypot(x - c2.x(), y - c2.y()) - R2) > rad_gate) continue;
@@ -325,7 +326,7 @@ bool RimCentreSampler::TrySample(const Ellipse& e, const DepthImageView& depth, 
       R2 = std::sqrt(rr);
       ok = true;
       tmp_.clear();
-      for (int i : idx_) {
+      for (int i : fit_idx_) {
         const Eigen::Vector3d& X = pts_[static_cast<std::size_t>(i)].X;
         tmp_.push_back(std::abs(std::hypot(u.dot(X) - c2.x(), v.dot(X) - c2.y()) - R2));
       }

@@ -122,7 +122,8 @@ class RimCentreSampler {
   RimSampleOptions options_;
   std::vector<Pt> pts_;
   std::vector<double> tmp_;
-  std::vector<int> idx_;
+  std::vector<int> idx_;      // the inliers of the fit being run
+  std::vector<int> fit_idx_;  // the inliers of the fit chosen so far
   Failure failure_ = Failure::kNone;
   int fail_valid_ = 0, fail_total_ = 0, fail_sectors_ = 0;
   Status inner_;  // kInner: the circle pose's or the projected centre's error
