@@ -11,10 +11,6 @@
 
 namespace ellipsekit::robot {
 
-namespace {
-constexpr std::size_t kTracksRoom = 64, kDetectionsRoom = 256;  // as the tracker's (tracker.h)
-}  // namespace
-
 const char* CentreSourceName(CentreSource s) {
   switch (s) {
     case CentreSource::kNone: return "none";
@@ -60,7 +56,7 @@ FrameLoop::FrameLoop(const CameraModel& camera, FrameLoopOptions options)
   }
   // Room for the tracks the tracker has room for (tracker.h), and for the interior median's depths
   // (at most the image's pixels): the per-frame work then allocates nothing.
-  states_.reserve(kTracksRoom);
+  states_.reserve(EllipseTracker::kTracksRoom);
   if (options_.top_centre == TopCentreMethod::kInteriorMedian && camera_.width() > 0 && camera_.height() > 0)
     interior_depths_.reserve(static_cast<std::size_t>(camera_.width()) * static_cast<std::size_t>(camera_.height()));
 }
@@ -106,6 +102,7 @@ Status FrameLoop::ProcessDetections(const std::vector<Ellipse>& dets, const Dept
   out->stamp_s = stamp_s;
   // The caller's output keeps its room (a vector's copy assignment reuses it); it gets the same room
   // as the tracker's on the first frame, so a frame with a few more tops does not grow it.
+  constexpr std::size_t kDetectionsRoom = EllipseTracker::kDetectionsRoom, kTracksRoom = EllipseTracker::kTracksRoom;
   if (out->detections.capacity() < kDetectionsRoom) out->detections.reserve(kDetectionsRoom);
   if (out->tracks.capacity() < kTracksRoom) out->tracks.reserve(kTracksRoom);
   out->detections = dets;

@@ -31,12 +31,11 @@ const char* TrackStateName(TrackState s) {
 }
 
 EllipseTracker::EllipseTracker(TrackerOptions options) : options_(options) {
-  constexpr int kTracks = 64, kDetections = 256;
-  tracks_.reserve(kTracks);
-  filters_.reserve(kTracks);
-  cost_.reserve(static_cast<std::size_t>(kTracks) * kDetections);
-  det_used_.reserve(kDetections);
-  solver_.Reserve(kTracks, kDetections);
+  tracks_.reserve(kTracksRoom);
+  filters_.reserve(kTracksRoom);
+  cost_.reserve(static_cast<std::size_t>(kTracksRoom) * kDetectionsRoom);
+  det_used_.reserve(kDetectionsRoom);
+  solver_.Reserve(kTracksRoom, kDetectionsRoom);
 }
 
 void EllipseTracker::Reset() {

@@ -56,6 +56,9 @@ struct Track {
 
 class EllipseTracker {
  public:
+  // The room Update() has from the start (see above); FrameLoop sizes its outputs alike.
+  static constexpr int kTracksRoom = 64, kDetectionsRoom = 256;
+
   explicit EllipseTracker(TrackerOptions options = {});
 
   // One frame at time `stamp_s` (seconds, increasing). Returns an error for non-increasing time
