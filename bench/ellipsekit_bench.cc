@@ -363,6 +363,20 @@ void BM_EdgeStageCpu(benchmark::State& st, std::int64_t target, Size s) {
   SetRates(st, static_cast<std::int64_t>(p.w) * p.h, 2LL * p.w * p.h);
 }
 
+// Turns a shared Vulkan stage's device timestamps (set_timing) on or off for one benchmark, and
+// off again after it.
+template <class Stage>
+class ScopedTiming {
+ public:
+  ScopedTiming(Stage* stage, bool on) : stage_(stage) { stage_->set_timing(on); }
+  ~ScopedTiming() { stage_->set_timing(false); }
+  ScopedTiming(const ScopedTiming&) = delete;
+  ScopedTiming& operator=(const ScopedTiming&) = delete;
+
+ private:
+  Stage* stage_;
+};
+
 #ifdef ELLIPSEKIT_HAVE_VULKAN
 ek::VulkanEdgeStage* VulkanStage(std::string* why) {
   static std::unique_ptr<ek::VulkanEdgeStage> stage;
@@ -373,7 +387,7 @@ ek::VulkanEdgeStage* VulkanStage(std::string* why) {
 #endif
 
 // Warm (buffers and pipelines made by an untimed first Run); the time includes the transfers.
-// steps: with the device timestamps around each shader step (VulkanEdgeStage::set_step_timing),
+// steps: with the device timestamps around each shader step (VulkanEdgeStage::set_timing),
 // reported as counters device_ms and <step>_ms; they cost time of their own (on lavapipe about a
 // dispatch each), so the plain benchmark runs without them.
 void BM_EdgeStageVulkan(benchmark::State& st, Size s, bool steps) {
@@ -381,11 +395,7 @@ void BM_EdgeStageVulkan(benchmark::State& st, Size s, bool steps) {
   std::string why;
   ek::VulkanEdgeStage* vk = VulkanStage(&why);
   if (vk == nullptr) { st.SkipWithError(("Vulkan unavailable: " + why).c_str()); return; }
-  struct StepTiming {  // on for this benchmark only (the stage is shared)
-    ek::VulkanEdgeStage* vk;
-    ~StepTiming() { vk->set_step_timing(false); }
-  } timing{vk};
-  vk->set_step_timing(steps);
+  const ScopedTiming<ek::VulkanEdgeStage> timing(vk, steps);
   Prepared& p = PreparedFor(s);
   const std::size_t n = static_cast<std::size_t>(p.w) * p.h;
   std::vector<std::int16_t> dx(n), dy(n);
@@ -472,11 +482,7 @@ void BM_ArcStage(benchmark::State& st, bool vulkan, bool timed, const std::strin
     static std::unique_ptr<ek::VulkanArcStage> stage;
     static const ek::Status created = ek::VulkanArcStage::Create(&stage);
     if (!created.ok()) { st.SkipWithError(created.message().c_str()); return; }
-    struct Timing {  // on for this benchmark only (the stage is shared)
-      ek::VulkanArcStage* stage;
-      ~Timing() { stage->set_timing(false); }
-    } timing{stage.get()};
-    stage->set_timing(timed);
+    const ScopedTiming<ek::VulkanArcStage> timing(stage.get(), timed);
     ek::Status rs = stage->Run(in->curves, tol, tan_q16, o.min_curve_points, &polylines, &splits, &stats);
     if (!rs.ok()) { st.SkipWithError(("Vulkan arc stage failed: " + rs.message()).c_str()); return; }
     double device_ms = 0, compact_ms = 0;

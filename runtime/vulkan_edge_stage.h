@@ -57,7 +57,7 @@ class VulkanEdgeStage {
 
   // Device timestamps around each step: off by default, because on lavapipe each timestamp costs
   // about as much as a dispatch (docs/vulkan.md). Takes effect at the next Run.
-  void set_step_timing(bool on) { timing_ = on; }
+  void set_timing(bool on) { timing_ = on; }
   // Device time of the last Run (GPU timestamps; the host's row copies into and out of the
   // host-visible buffers are not in it); -1 when step timing is off or the queue has no timestamps.
   double last_device_ms() const { return last_device_ms_; }

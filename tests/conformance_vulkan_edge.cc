@@ -261,7 +261,7 @@ TEST(ConformanceVulkanEdge, Timing) {
   const char* t = std::getenv("ELLIPSEKIT_VK_TIMING");
   if (t == nullptr || std::string(t) != "1") GTEST_SKIP() << "set ELLIPSEKIT_VK_TIMING=1 to print timings";
   using Clock = std::chrono::steady_clock;
-  stage->set_step_timing(true);  // device_ms; the timestamps add to the wall time
+  stage->set_timing(true);  // device_ms; the timestamps add to the wall time
   for (const auto& s : {std::pair{640, 480}, std::pair{1920, 1080}}) {
     const int w = s.first, h = s.second;
     auto img = Shapes(w, h, 42);
@@ -289,7 +289,7 @@ TEST(ConformanceVulkanEdge, Timing) {
     std::printf("%dx%d on %s: vulkan %.2f ms wall (device %.2f ms), scalar %.2f ms\n", w, h,
                 stage->device_name().c_str(), best_vk, best_dev, best_scalar);
   }
-  stage->set_step_timing(false);
+  stage->set_timing(false);
 }
 
 }  // namespace
