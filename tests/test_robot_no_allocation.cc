@@ -24,6 +24,7 @@
 #include "ellipsekit/robot/circle_pose.h"
 #include "ellipsekit/robot/frame_loop.h"
 #include "tests/alloc_counter.h"
+#include "tests/robot_test_util.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
@@ -32,6 +33,8 @@ namespace er = ellipsekit::robot;
 namespace sc = ellipsekit::scenes;
 
 using Count = ellipsekit::test::AllocationCount;
+using ellipsekit::test::DepthView;
+using ellipsekit::test::View;
 using ellipsekit::test::CountAllocations;
 using ellipsekit::test::PrintAllocationTraces;
 
@@ -40,20 +43,6 @@ struct Frame {
   double t = 0;
   cv::Mat gray, depth_mm;
 };
-
-er::DepthImageView DepthView(const cv::Mat& depth_mm) {
-  er::DepthImageView dv;
-  dv.data = depth_mm.data;
-  dv.width = depth_mm.cols;
-  dv.height = depth_mm.rows;
-  dv.step = depth_mm.step[0];
-  dv.encoding = er::DepthEncoding::k16UC1;
-  return dv;
-}
-
-ellipsekit::ImageView View(const cv::Mat& gray) {
-  return {gray.ptr<std::uint8_t>(0), gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step[0])};
-}
 
 struct Sequence {
   er::CameraModel camera;

@@ -26,12 +26,15 @@
 #include "ellipsekit/robot/frame_loop.h"
 #include "ellipsekit/robot/rim_centre.h"
 #include "robot/testing/synthetic.h"
+#include "tests/robot_test_util.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
 
 namespace er = ellipsekit::robot;
 namespace sc = ellipsekit::scenes;
+using ellipsekit::test::DepthView;
+using ellipsekit::test::View;
 using ellipsekit::Ellipse;
 using er::testing::Percentile;  // p in percent
 
@@ -55,20 +58,6 @@ struct Rig {
     return R_wc.transpose() * (Eigen::Vector3d(pw[0], pw[1], pw[2]) - t_wc);
   }
 };
-
-er::DepthImageView DepthView(const cv::Mat& depth_mm) {
-  er::DepthImageView dv;
-  dv.data = depth_mm.data;
-  dv.width = depth_mm.cols;
-  dv.height = depth_mm.rows;
-  dv.step = depth_mm.step[0];
-  dv.encoding = er::DepthEncoding::k16UC1;
-  return dv;
-}
-
-ellipsekit::ImageView View(const cv::Mat& gray) {
-  return ellipsekit::ImageView{gray.ptr<std::uint8_t>(0), gray.cols, gray.rows, static_cast<std::ptrdiff_t>(gray.step[0])};
-}
 
 Eigen::Vector3d V(const cv::Vec3d& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 

@@ -32,12 +32,14 @@
 #include "ellipsekit/robot/frame_loop.h"
 #include "ellipsekit/robot/tracker.h"
 #include "robot/testing/synthetic.h"
+#include "tests/robot_test_util.h"
 #include "tools/scenes/scene_generator.h"
 
 namespace {
 
 namespace sc = ellipsekit::scenes;
 namespace er = ellipsekit::robot;
+using ellipsekit::test::DepthView;
 using ellipsekit::Ellipse;
 using er::testing::Percentile;  // p in percent
 
@@ -93,16 +95,6 @@ int MatchTruth(const std::vector<Ellipse>& dets, const Ellipse& truth) {
     }
   }
   return best;
-}
-
-er::DepthImageView DepthView(const cv::Mat& depth_mm) {
-  er::DepthImageView dv;
-  dv.data = depth_mm.data;
-  dv.width = depth_mm.cols;
-  dv.height = depth_mm.rows;
-  dv.step = depth_mm.step[0];
-  dv.encoding = er::DepthEncoding::k16UC1;
-  return dv;
 }
 
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
