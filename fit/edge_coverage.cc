@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -15,7 +16,7 @@ constexpr int kSamplesPerSector = 4;
 constexpr int kSamples = kSectors * kSamplesPerSector;
 constexpr int kFineSamples = 64;       // FineEdgeCoverage: one sample in the middle of each sector
 constexpr double kFineDistance = 1.0;  // px, FineEdgeCoverage's band either side of the outline
-constexpr int kClaimRadius = 2;        // px, ClaimEdges' neighbourhood (5x5)
+constexpr double kClaimDistance = 2.5;  // px, ClaimEdges' band either side of the outline
 
 // (cos t, sin t) of the 256 sample angles, computed once.
 const std::array<std::array<double, 2>, kSamples>& UnitSamples() {
@@ -48,23 +49,18 @@ struct Outline {
             nu * s + nv * c};
   }
   // First-order distance of (x, y) to the ellipse, |F| / |grad F|, F = u^2 + v^2 - 1, compared
-  // with d without a root or a division.
-  bool Within(double x, double y, double d) const {
+  // with d without a root or a division; (*nx, *ny) = grad F there, the outward normal.
+  bool Within(double x, double y, double d, double* nx = nullptr, double* ny = nullptr) const {
     const double dx = x - e.cx, dy = y - e.cy;
     const double u = (dx * c + dy * s) * ia, v = (dy * c - dx * s) * ib;
     const double f = u * u + v * v - 1, gu = 2 * u * ia, gv = 2 * v * ib;
+    if (nx != nullptr) {
+      *nx = gu * c - gv * s;
+      *ny = gu * s + gv * c;
+    }
     return f * f <= d * d * (gu * gu + gv * gv);
   }
 };
-
-// The stride through the 256 samples that keeps consecutive ones about `spacing` px apart along
-// the outline (Ramanujan's perimeter): a small ellipse needs far fewer than 256.
-int SampleStep(const Ellipse& e, double spacing) {
-  const double h = (e.a - e.b) * (e.a - e.b) / ((e.a + e.b) * (e.a + e.b));
-  const double perimeter = std::numbers::pi * (e.a + e.b) * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
-  if (!(perimeter < kSamples * spacing)) return 1;
-  return std::max(1, static_cast<int>(kSamples * spacing / std::max(perimeter, 1.0)));
-}
 
 // Nearest integer, halves up (in reach of the frame, so no overflow); inline, unlike std::lround.
 int RoundToInt(double v) { return static_cast<int>(std::floor(v + 0.5)); }
@@ -73,12 +69,23 @@ bool InReach(const Outline::Sample& p, const EdgeMapView& in) {
   return p.px > -3 && p.px < in.width + 2 && p.py > -3 && p.py < in.height + 2;
 }
 
-// Calls visit(x, y) for each edge pixel of the (2 r + 1)^2 window around (x0, y0), clipped to the
-// frame, row by row, until it returns true; returns whether one did.
+// Calls visit(x, y) for each edge pixel of the 3x3 window around (x0, y0), clipped to the frame,
+// row by row, until it returns true; returns whether one did. Inside the frame the window's nine
+// bytes are read without a branch into a 9-bit mask (most windows hold no edge pixel).
 template <typename Visit>
-bool VisitEdgesAround(const EdgeMapView& in, int x0, int y0, int r, Visit visit) {
-  const int xa = std::max(x0 - r, 0), xb = std::min(x0 + r, in.width - 1);
-  const int ya = std::max(y0 - r, 0), yb = std::min(y0 + r, in.height - 1);
+bool VisitEdgesAround(const EdgeMapView& in, int x0, int y0, Visit visit) {
+  if (x0 >= 1 && x0 <= in.width - 2 && y0 >= 1 && y0 <= in.height - 2) {
+    const std::uint8_t* row = in.edge_map + (y0 - 1) * in.stride + (x0 - 1);
+    unsigned mask = 0;
+    for (int k = 0; k < 9; ++k) mask |= static_cast<unsigned>(row[(k / 3) * in.stride + k % 3] != 0) << k;
+    for (; mask != 0; mask &= mask - 1) {
+      const int k = std::countr_zero(mask);
+      if (visit(x0 - 1 + k % 3, y0 - 1 + k / 3)) return true;
+    }
+    return false;
+  }
+  const int xa = std::max(x0 - 1, 0), xb = std::min(x0 + 1, in.width - 1);
+  const int ya = std::max(y0 - 1, 0), yb = std::min(y0 + 1, in.height - 1);
   for (int y = ya; y <= yb; ++y) {
     const std::uint8_t* row = in.edge_map + y * in.stride;
     for (int x = xa; x <= xb; ++x) {
@@ -91,6 +98,65 @@ bool VisitEdgesAround(const EdgeMapView& in, int x0, int y0, int r, Visit visit)
 // Whether the gradient at (x, y), inside the frame, lies along (nx, ny).
 bool GradientAlong(const EdgeMapView& in, int x, int y, double nx, double ny) {
   return GradientAlongNormal(in.dx[y * in.grad_stride + x], in.dy[y * in.grad_stride + x], nx, ny);
+}
+
+// x of the points of the ellipse (cx, cy, A, B, theta) on the row dy below its centre:
+// P x^2 + 2 Q dy x + R dy^2 = 1 with the coefficients of its implicit form.
+class RowSpans {
+ public:
+  RowSpans(const Ellipse& e, double A, double B) {
+    const double c = std::cos(e.theta), s = std::sin(e.theta), ia2 = 1 / (A * A), ib2 = 1 / (B * B);
+    p_ = c * c * ia2 + s * s * ib2;
+    q_ = c * s * (ia2 - ib2);
+    r_ = s * s * ia2 + c * c * ib2;
+    half_height_ = std::sqrt(A * A * s * s + B * B * c * c);
+  }
+  double half_height() const { return half_height_; }
+  // The row's chord [*x0, *x1] relative to the centre; false when the row misses the ellipse.
+  bool Span(double dy, double* x0, double* x1) const {
+    const double q = q_ * dy, disc = q * q - p_ * (r_ * dy * dy - 1);
+    if (!(disc >= 0)) return false;
+    const double root = std::sqrt(disc);
+    *x0 = (-q - root) / p_;
+    *x1 = (-q + root) / p_;
+    return true;
+  }
+
+ private:
+  double p_, q_, r_, half_height_;
+};
+
+// Calls visit(x, y) for each edge pixel of the frame between the ellipses with semi-axes
+// (a - margin, b - margin) and (a + margin, b + margin), row by row, each pixel once. Work: the
+// pixels of that annulus, empty runs skipped 8 bytes at a time.
+template <typename Visit>
+void ForEachEdgeInBand(const EdgeMapView& in, const Ellipse& e, double margin, Visit visit) {
+  const RowSpans outer(e, e.a + margin, e.b + margin);
+  const bool has_inner = e.b > margin;
+  const RowSpans inner(e, has_inner ? e.a - margin : 1, has_inner ? e.b - margin : 1);
+  const double h = outer.half_height();
+  if (!(e.cy + h >= 0 && e.cy - h <= in.height - 1)) return;
+  const int ya = static_cast<int>(std::ceil(std::max(e.cy - h, 0.0)));
+  const int yb = static_cast<int>(std::floor(std::min(e.cy + h, in.height - 1.0)));
+  auto scan = [&](const std::uint8_t* row, int y, double from, double to) {  // x in [from, to]
+    const int xa = static_cast<int>(std::ceil(std::max(from, 0.0)));
+    const int end = static_cast<int>(std::floor(std::min(to, in.width - 1.0))) + 1;
+    for (int x = FirstNonZeroByte(row, xa, end); x < end; x = FirstNonZeroByte(row, x + 1, end)) visit(x, y);
+  };
+  for (int y = ya; y <= yb; ++y) {
+    const double dy = y - e.cy;
+    double xo0, xo1;
+    if (!outer.Span(dy, &xo0, &xo1)) continue;
+    const std::uint8_t* row = in.edge_map + y * in.stride;
+    double xi0, xi1;
+    // The inner chord's pixels a pixel or more inside its ends are inside the inner ellipse.
+    if (has_inner && inner.Span(dy, &xi0, &xi1) && xi1 - xi0 > 2) {
+      scan(row, y, e.cx + xo0, e.cx + xi0 + 1);
+      scan(row, y, e.cx + xi1 - 1, e.cx + xo1);
+    } else {
+      scan(row, y, e.cx + xo0, e.cx + xo1);
+    }
+  }
 }
 
 }  // namespace
@@ -117,7 +183,7 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share, c
       const Outline::Sample p = outline.At(sector * kSamplesPerSector + k);
       if (!InReach(p, in)) continue;
       const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-      hit = VisitEdgesAround(in, x0, y0, 1, [&](int x, int y) {
+      hit = VisitEdgesAround(in, x0, y0, [&](int x, int y) {
         return GradientAlong(in, x, y, p.nx, p.ny) && (exclude == nullptr || exclude->mask[y * in.width + x] == 0);
       });
     }
@@ -138,21 +204,14 @@ double InFrameShare(const EdgeMapView& in, const Ellipse& e) {
 
 void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims) {
   const Outline outline(e);
-  // Samples about kClaimRadius px apart are enough for the 5x5 neighbourhoods to overlap.
-  const int step = SampleStep(e, kClaimRadius);
-  for (int i = 0; i < kSamples; i += step) {
-    const Outline::Sample p = outline.At(i);
-    if (!InReach(p, in)) continue;
-    const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-    VisitEdgesAround(in, x0, y0, kClaimRadius, [&](int x, int y) {
-      const std::int32_t index = y * in.width + x;
-      if (claims->mask[index] == 0 && GradientAlong(in, x, y, p.nx, p.ny)) {
-        claims->mask[index] = 1;
-        claims->claimed.push_back(index);
-      }
-      return false;
-    });
-  }
+  ForEachEdgeInBand(in, e, kClaimDistance + 1, [&](int x, int y) {
+    const std::int32_t index = y * in.width + x;
+    double nx, ny;
+    if (claims->mask[index] == 0 && outline.Within(x, y, kClaimDistance, &nx, &ny) && GradientAlong(in, x, y, nx, ny)) {
+      claims->mask[index] = 1;
+      claims->claimed.push_back(index);
+    }
+  });
 }
 
 double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat) {
@@ -164,36 +223,25 @@ double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat)
     const Outline::Sample p = outline.At(i * (kSamples / kFineSamples) + kSamples / kFineSamples / 2);
     if (!InReach(p, in)) continue;
     const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-    hits += VisitEdgesAround(in, x0, y0, 1, [&](int x, int y) {
+    hits += VisitEdgesAround(in, x0, y0, [&](int x, int y) {
       return GradientAlong(in, x, y, p.nx, p.ny) && outline.Within(x, y, kFineDistance);
     });
   }
   return static_cast<double>(hits) / kFineSamples;
 }
 
-int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, EdgeClaims* seen,
-                   std::vector<std::int32_t>* xs, std::vector<std::int32_t>* ys) {
+int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, std::vector<std::int32_t>* xs,
+                   std::vector<std::int32_t>* ys) {
   const Outline outline(e);
   xs->clear();
   ys->clear();
-  // Samples about 1 px apart are enough for the 3x3 neighbourhoods to overlap.
-  const int step = SampleStep(e, 1);
-  for (int i = 0; i < kSamples; i += step) {
-    const Outline::Sample p = outline.At(i);
-    if (!InReach(p, in)) continue;
-    const int x0 = RoundToInt(p.px), y0 = RoundToInt(p.py);
-    VisitEdgesAround(in, x0, y0, 1, [&](int x, int y) {
-      const std::int32_t index = y * in.width + x;
-      if (seen->mask[index] == 0 && GradientAlong(in, x, y, p.nx, p.ny) && outline.Within(x, y, distance)) {
-        seen->mask[index] = 1;
-        seen->claimed.push_back(index);
-        xs->push_back(x);
-        ys->push_back(y);
-      }
-      return false;
-    });
-  }
-  seen->Clear();
+  ForEachEdgeInBand(in, e, distance + 1, [&](int x, int y) {
+    double nx, ny;
+    if (xs->size() < xs->capacity() && outline.Within(x, y, distance, &nx, &ny) && GradientAlong(in, x, y, nx, ny)) {
+      xs->push_back(x);
+      ys->push_back(y);
+    }
+  });
   return static_cast<int>(xs->size());
 }
 

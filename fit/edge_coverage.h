@@ -41,17 +41,19 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share = 
 // In [0, 1]: the share of EdgeCoverage's 64 sectors whose middle sample lies inside the frame.
 double InFrameShare(const EdgeMapView& in, const Ellipse& e);
 
-// Claims every edge pixel within 2 px (5x5) of the 256 sample points whose gradient lies along
-// the normal there: wider than EdgeCoverage's 3x3, so an ellipse a pixel off the claimed one finds
-// no support of its own on the same edge. Work: 256 x 25 pixels.
+// Claims every edge pixel within 2.5 px of the outline (first-order distance) whose gradient lies
+// along the ellipse's normal there: wider than EdgeCoverage's 3x3, so an ellipse a pixel off the
+// claimed one finds no support of its own on the same edge. Work: the pixels of a 7 px wide band
+// along the outline, empty runs skipped 8 at a time.
 void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims);
 
 // In [0, 1]. Stops once `to_beat` is out of reach and returns a value <= to_beat then.
 double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat = -1);
 
-// The edge pixels (each once) within `distance` px of e, near its 256 samples, gradient along the
-// normal: into xs, ys. `seen` is used as scratch and left clear.
-int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, EdgeClaims* seen,
-                   std::vector<std::int32_t>* xs, std::vector<std::int32_t>* ys);
+// The edge pixels within `distance` px of e (first-order distance) whose gradient lies along its
+// normal there, row by row: into xs, ys, up to their capacity (never allocates; the caller
+// reserves, EdgeRefitScratch::Reserve). Work: the pixels of a band 2 distance + 2 px wide.
+int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, std::vector<std::int32_t>* xs,
+                   std::vector<std::int32_t>* ys);
 
 }  // namespace ellipsekit

@@ -1,5 +1,7 @@
 #include "fit/edge_refit.h"
 
+#include <cstddef>
+
 #include "fit/arc.h"
 #include "fit/clustering.h"
 #include "fit/conic_refine.h"
@@ -8,19 +10,19 @@
 namespace ellipsekit {
 
 namespace {
-constexpr int kMaxPoints = 256 * 9;  // EdgePointsNear: 256 samples x a 3x3 neighbourhood
 constexpr int kMinPoints = 12;
 }  // namespace
 
-void EdgeRefitScratch::Reserve() {
-  x.reserve(kMaxPoints);
-  y.reserve(kMaxPoints);
+void EdgeRefitScratch::Reserve(int width, int height) {
+  const std::size_t room = 8 * (static_cast<std::size_t>(width) + height);
+  x.reserve(room);
+  y.reserve(room);
 }
 
-bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeClaims* seen, EdgeRefitScratch* scratch) {
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch) {
   const double share = FineEdgeCoverage(in, *e);
   if (share < kEdgeRefitMinShare) return false;
-  const int n = EdgePointsNear(in, *e, kEdgeRefitDistance, seen, &scratch->x, &scratch->y);
+  const int n = EdgePointsNear(in, *e, kEdgeRefitDistance, &scratch->x, &scratch->y);
   if (n < kMinPoints) return false;
   Arc points;  // RefineEllipse reads only the moments
   points.moments = MomentsOfPoints(scratch->x.data(), scratch->y.data(), 0, n - 1, scratch->x[0], scratch->y[0]);

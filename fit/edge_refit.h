@@ -22,12 +22,15 @@ inline constexpr double kEdgeRefitDistance = 1.5;  // px
 inline constexpr double kEdgeRefitMinShare = 0.75;
 
 struct EdgeRefitScratch {
-  std::vector<std::int32_t> x, y;  // at most 256 x 9 points
-  void Reserve();
+  std::vector<std::int32_t> x, y;
+  // Room for the edge pixels near any outline in a width x height frame: its part inside the
+  // frame is at most as long as the frame's border, 2 (width + height), and thin (NMS) edges put
+  // a few pixels per unit of length into the 5 px band; beyond that room points are left out.
+  void Reserve(int width, int height);
 };
 
-// Refits *e in place (keeping its score); false when it was left as it was. `seen` is scratch: a
-// frame-sized EdgeClaims with nothing claimed, left so. No allocation once scratch is reserved.
-bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeClaims* seen, EdgeRefitScratch* scratch);
+// Refits *e in place (keeping its score); false when it was left as it was. No allocation once
+// scratch is reserved.
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch);
 
 }  // namespace ellipsekit

@@ -164,7 +164,7 @@ void Detector::Impl::Resize(int w, int h) {
   hist.resize(kMaxMagnitude + 1);
   stack.resize(n);  // hysteresis: every pixel at most once
   claims.Resize(w, h);
-  refit_scratch.Reserve();
+  refit_scratch.Reserve(w, h);
   // Edge pixels after NMS: 1-6 % of a photograph's or a crowded frame's pixels, up to 22 % on
   // the noisiest generated scenes (measured: `ellipsekit detect --format json`, counts).
   const std::size_t points = n / kEdgeShare;
@@ -368,7 +368,7 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);
   if (options.refit_to_edges) {
-    for (int i = 0; i < kept; ++i) RefitToEdges(EdgeView(), &candidates[i].ellipse, &claims, &refit_scratch);
+    for (int i = 0; i < kept; ++i) RefitToEdges(EdgeView(), &candidates[i].ellipse, &refit_scratch);
   }
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
