@@ -139,8 +139,12 @@ void ForEachEdgeInBand(const EdgeMapView& in, const Ellipse& e, double margin, V
   const int ya = static_cast<int>(std::ceil(std::max(e.cy - h, 0.0)));
   const int yb = static_cast<int>(std::floor(std::min(e.cy + h, in.height - 1.0)));
   auto scan = [&](const std::uint8_t* row, int y, double from, double to) {  // x in [from, to]
-    const int xa = static_cast<int>(std::ceil(std::max(from, 0.0)));
-    const int end = static_cast<int>(std::floor(std::min(to, in.width - 1.0))) + 1;
+    // Clipped in doubles before any conversion: a huge or degenerate ellipse gives infinite or
+    // NaN chord ends, and NaN fails the test.
+    const double lo = std::max(from, 0.0), hi = std::min(to, in.width - 1.0);
+    if (!(lo <= hi)) return;
+    const int xa = static_cast<int>(std::ceil(lo));
+    const int end = static_cast<int>(std::floor(hi)) + 1;
     for (int x = FirstNonZeroByte(row, xa, end); x < end; x = FirstNonZeroByte(row, x + 1, end)) visit(x, y);
   };
   for (int y = ya; y <= yb; ++y) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -278,6 +279,45 @@ TEST(EdgeCoverage, FineCoverageRanksTheTighterFit) {
   EXPECT_GE(ellipsekit::EdgeCoverage(f.Input(), off), 0.9) << "the 3x3 coverage backs both";
   EXPECT_LE(ellipsekit::FineEdgeCoverage(f.Input(), off, on_ring), on_ring);
   EXPECT_EQ(ellipsekit::FineEdgeCoverage(f.Input(), Inner(), 0.5), on_ring) << "a better one is counted in full";
+}
+
+// The band scans (ClaimEdges, EdgePointsNear): every pixel of a ring drawn along the ellipse is
+// found once, nothing of a ring 1.2x larger, and far-off, huge or degenerate ellipses (infinite or
+// NaN chord ends) find nothing and touch no pixel outside the frame.
+TEST(EdgeCoverage, BandScansFindTheRingOnceAndAreSafeAnywhere) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.0, 0, kTwoPi);
+  f.Ring(Inner(), 1.2, 0, kTwoPi);
+  int on_ring = 0;
+  EdgeFrame only;
+  only.Ring(Inner(), 1.0, 0, kTwoPi);
+  for (const std::uint8_t v : only.edges) on_ring += v != 0;
+  std::vector<std::int32_t> xs, ys;
+  xs.reserve(8 * (kW + kH));
+  ys.reserve(8 * (kW + kH));
+  EXPECT_EQ(ellipsekit::EdgePointsNear(f.Input(), Inner(), 1.5, &xs, &ys), on_ring);
+  for (std::size_t i = 0; i < xs.size(); ++i) EXPECT_NE(only.edges[ys[i] * kW + xs[i]], 0) << "only the inner ring";
+  ellipsekit::EdgeClaims claims;
+  claims.Resize(kW, kH);
+  ellipsekit::ClaimEdges(f.Input(), Inner(), &claims);
+  EXPECT_EQ(static_cast<int>(claims.claimed.size()), on_ring);
+  claims.Clear();
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const double far : {1e12, -1e12, 1e300, inf, nan}) {
+    for (int field = 0; field < 3; ++field) {
+      Ellipse e = Inner();
+      if (field == 0) e.cx = far;
+      if (field == 1) e.a = std::abs(far);
+      if (field == 2) e.b = 1e-300;  // a line: the band is its outer ellipse's chord
+      ellipsekit::EdgePointsNear(f.Input(), e, 1.5, &xs, &ys);
+      ellipsekit::ClaimEdges(f.Input(), e, &claims);
+      for (std::size_t i = 0; i < xs.size(); ++i) {
+        EXPECT_TRUE(xs[i] >= 0 && xs[i] < kW && ys[i] >= 0 && ys[i] < kH);
+      }
+      if (field == 0) EXPECT_TRUE(xs.empty() && claims.claimed.empty()) << far;
+      claims.Clear();
+    }
+  }
 }
 
 // The refit to the edges (fit/edge_refit.h) moves an ellipse a pixel off a ring onto it, and leaves
