@@ -245,10 +245,9 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
 // within kClaimReach px) can share edges; those, in order of edge coverage (best first; ties: the
 // clustering's order), claim their edges, and one left with too little coverage by unclaimed edges
 // is dropped. Keeps the survivors' order; returns how many there are. Work per competing ellipse:
-// 3 coverage passes (256 samples x at most 25 pixels).
+// 2 coverage passes (at most 256 samples x 9 pixels) and a scan of the 7 px band along its outline.
 int Detector::Impl::KeepExclusivelySupported(int kept) {
   if (!(options.min_exclusive_coverage > 0) || kept < 2) return kept;
-  constexpr double kClaimReach = 3;  // px: EdgeCoverage's 1 px neighbourhood + ClaimEdges' 2 px
   const EdgeMapView in = EdgeView();
   boxes.clear();
   for (int i = 0; i < kept; ++i) boxes.push_back(BoundingBox(candidates[i].ellipse, kClaimReach));

@@ -104,7 +104,6 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
     // edges. Measured in docs/resolution.md.
     // Only the ellipses near a new one claim their edges (each once): claims farther away than
     // kClaimReach cannot touch its coverage.
-    constexpr double kClaimReach = 3;  // px: EdgeCoverage's 1 px neighbourhood + ClaimEdges' 2 px
     claimed_near.resize(r->ellipses.size(), 0);
     for (const Ellipse& e : coarse_result.ellipses) {
       bool known = false;
