@@ -42,13 +42,13 @@ double EdgeCoverage(const EdgeMapView& in, const Ellipse& e, double min_share = 
 double InFrameShare(const EdgeMapView& in, const Ellipse& e);
 
 // Two ellipses can share an edge pixel only when their outlines lie within EdgeCoverage's 3x3
-// window (1.5 px) plus ClaimEdges' 2.5 px band of each other: bounding boxes each grown by
+// window (1.5 px) plus ClaimEdges' 3 px band of each other: bounding boxes each grown by
 // kClaimReach px (meeting at 6 px) find every such pair.
 inline constexpr double kClaimReach = 3;
 
-// Claims every edge pixel within 2.5 px of the outline (first-order distance) whose gradient lies
+// Claims every edge pixel within 3 px of the outline (first-order distance) whose gradient lies
 // along the ellipse's normal there: wider than EdgeCoverage's 3x3, so an ellipse a pixel off the
-// claimed one finds no support of its own on the same edge. Work: the pixels of a 7 px wide band
+// claimed one finds no support of its own on the same edge. Work: the pixels of a 9 px wide band
 // along the outline, empty runs skipped 8 at a time.
 void ClaimEdges(const EdgeMapView& in, const Ellipse& e, EdgeClaims* claims);
 

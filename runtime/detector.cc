@@ -245,7 +245,7 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
 // within kClaimReach px) can share edges; those, in order of edge coverage (best first; ties: the
 // clustering's order), claim their edges, and one left with too little coverage by unclaimed edges
 // is dropped. Keeps the survivors' order; returns how many there are. Work per competing ellipse:
-// 2 coverage passes (at most 256 samples x 9 pixels) and a scan of the 7 px band along its outline.
+// 2 coverage passes (at most 256 samples x 9 pixels) and a scan of the 9 px band along its outline.
 int Detector::Impl::KeepExclusivelySupported(int kept) {
   if (!(options.min_exclusive_coverage > 0) || kept < 2) return kept;
   const EdgeMapView in = EdgeView();

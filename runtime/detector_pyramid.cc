@@ -83,8 +83,10 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
   ImageView image = front.image;
   claimed_near.clear();
   // Options::coarse_levels: the next levels too, each by a Detector of its own (its buffers keep
-  // their size), their ellipses added unless one of the finer levels already holds them.
-  const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels;
+  // their size), their ellipses added unless one of the finer levels already holds them. Not on a
+  // frame whose working level reached a cap: that frame has done the most work a frame may cost.
+  const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels &&
+                         r->caps_hit == kCapNone;
   for (int c = 0; coarse_on && c < options.coarse_levels && std::min(image.width, image.height) / 2 >= kMinPyramidSide; ++c) {
     if (!coarse[c]) {
       coarse[c] = std::make_unique<Impl>();
@@ -92,6 +94,12 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
       coarse[c]->kernels = kernels;
       coarse[c]->options.pyramid_level = 1;  // it reduces the level above it once (Reduce)
       coarse[c]->options.coarse_levels = 0;
+      // Budgets follow the level's pixels (a quarter per level): the caps bound the work of the
+      // whole pyramid at ~4/3 of the working level's, not twice it.
+      for (int* cap : {&coarse[c]->options.max_arcs, &coarse[c]->options.max_pairs, &coarse[c]->options.max_triplets,
+                       &coarse[c]->options.max_candidates}) {
+        *cap = std::max(1, *cap >> (2 * (c + 1)));
+      }
     }
     const Status st = coarse[c]->PixelStage(image);
     if (!st.ok()) return st;

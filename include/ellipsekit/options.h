@@ -72,7 +72,8 @@ struct Options {
   // Then, on a working frame of at least coarse_min_pixels pixels, it also detects on the next
   // coarse_levels levels and adds what they find that the finer ones did not (an ellipse must be
   // backed by the working level's edges not claimed by finer ellipses, along min_edge_coverage of
-  // its outline).
+  // its outline). Each coarser level works within a quarter of the finer level's caps (max_arcs,
+  // max_pairs, max_triplets, max_candidates).
   int coarse_levels = 1;
   int coarse_min_pixels = 400000;
 
