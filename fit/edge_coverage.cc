@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <numbers>
 
+#include "fit/ellipse_rows.h"
+
 namespace ellipsekit {
 
 namespace {
@@ -103,40 +105,14 @@ bool GradientAlong(const EdgeMapView& in, int x, int y, double nx, double ny) {
   return GradientAlongNormal(in.dx[y * in.grad_stride + x], in.dy[y * in.grad_stride + x], nx, ny);
 }
 
-// x of the points of the ellipse (cx, cy, A, B, theta) on the row dy below its centre:
-// P x^2 + 2 Q dy x + R dy^2 = 1 with the coefficients of its implicit form.
-class RowSpans {
- public:
-  RowSpans(const Ellipse& e, double A, double B) {
-    const double c = std::cos(e.theta), s = std::sin(e.theta), ia2 = 1 / (A * A), ib2 = 1 / (B * B);
-    p_ = c * c * ia2 + s * s * ib2;
-    q_ = c * s * (ia2 - ib2);
-    r_ = s * s * ia2 + c * c * ib2;
-    half_height_ = std::sqrt(A * A * s * s + B * B * c * c);
-  }
-  double half_height() const { return half_height_; }
-  // The row's chord [*x0, *x1] relative to the centre; false when the row misses the ellipse.
-  bool Span(double dy, double* x0, double* x1) const {
-    const double q = q_ * dy, disc = q * q - p_ * (r_ * dy * dy - 1);
-    if (!(disc >= 0)) return false;
-    const double root = std::sqrt(disc);
-    *x0 = (-q - root) / p_;
-    *x1 = (-q + root) / p_;
-    return true;
-  }
-
- private:
-  double p_, q_, r_, half_height_;
-};
-
 // Calls visit(x, y) for each edge pixel of the frame between the ellipses with semi-axes
 // (a - margin, b - margin) and (a + margin, b + margin), row by row, each pixel once. Work: the
 // pixels of that annulus, empty runs skipped 8 bytes at a time.
 template <typename Visit>
 void ForEachEdgeInBand(const EdgeMapView& in, const Ellipse& e, double margin, Visit visit) {
-  const RowSpans outer(e, e.a + margin, e.b + margin);
+  const EllipseRows outer(e.theta, e.a + margin, e.b + margin);
   const bool has_inner = e.b > margin;
-  const RowSpans inner(e, has_inner ? e.a - margin : 1, has_inner ? e.b - margin : 1);
+  const EllipseRows inner(e.theta, has_inner ? e.a - margin : 1, has_inner ? e.b - margin : 1);
   const double h = outer.half_height();
   if (!(e.cy + h >= 0 && e.cy - h <= in.height - 1)) return;
   const int ya = static_cast<int>(std::ceil(std::max(e.cy - h, 0.0)));

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "fit/ellipse_rows.h"
+
 namespace ellipsekit {
 
 namespace {
@@ -65,10 +67,11 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
   const double k_min = std::max(kRimSearchMinScale, 1 + 1.5 / inner.b), k_max = kRimSearchMaxScale;
   if (!(k_min < k_max)) return false;
   const double c = std::cos(inner.theta), s = std::sin(inner.theta);
-  // The search box: the bounding box of k_max * inner, clipped to the frame.
-  const double big_a = k_max * inner.a, big_b = k_max * inner.b;
-  const double hx = std::sqrt(big_a * big_a * c * c + big_b * big_b * s * s);
-  const double hy = std::sqrt(big_a * big_a * s * s + big_b * big_b * c * c);
+  // Row spans of the annulus k_min * inner .. k_max * inner; the search box: k_max * inner's
+  // bounding box, clipped to the frame.
+  const EllipseRows outer_rows(inner.theta, k_max * inner.a, k_max * inner.b);
+  const EllipseRows inner_rows(inner.theta, k_min * inner.a, k_min * inner.b);
+  const double hx = outer_rows.half_width(), hy = outer_rows.half_height();
   // Clipped in doubles before any conversion, so a far-off or huge ellipse cannot overflow an int.
   const double fx0 = std::max(0.0, std::floor(inner.cx - hx)), fx1 = std::min(in.width - 1.0, std::ceil(inner.cx + hx));
   const double fy0 = std::max(0.0, std::floor(inner.cy - hy)), fy1 = std::min(in.height - 1.0, std::ceil(inner.cy + hy));
@@ -84,18 +87,6 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
   int count[kMaxBins] = {};
   const double ia = 1 / inner.a, ib = 1 / inner.b;
   const double k_min2 = k_min * k_min, k_max2 = k_max * k_max;
-  // Row spans of the annulus k_min^2 <= r^2 < k_max^2, r^2 = A dx^2 + B dx dy + C dy^2, widened by a
-  // pixel so that rounding never drops a pixel the exact test below would keep.
-  const double qa = c * c * ia * ia + s * s * ib * ib, qb = 2 * c * s * (ia * ia - ib * ib);
-  const double qc = s * s * ia * ia + c * c * ib * ib;
-  auto span = [&](double dy, double k2, double* lo, double* hi) {  // false: the row misses k * inner
-    const double disc = qb * qb * dy * dy - 4 * qa * (qc * dy * dy - k2);
-    if (disc < 0) return false;
-    const double root = std::sqrt(disc);
-    *lo = (-qb * dy - root) / (2 * qa);
-    *hi = (-qb * dy + root) / (2 * qa);
-    return true;
-  };
   auto scan = [&](int y, int xa, int xb) {
     const std::uint8_t* edges = in.edge_map + y * in.stride;
     const std::int16_t* gxs = in.dx + y * in.grad_stride;
@@ -124,15 +115,15 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
   for (int y = y0; y <= y1; ++y) {
     const double dy = y - inner.cy;
     double out_lo, out_hi, in_lo, in_hi;
-    if (!span(dy, k_max2, &out_lo, &out_hi)) continue;
-    // Clamped to [x0 - 1, x1 + 1] in doubles before conversion (NaN, from an ellipse so huge that
-    // its quadratic form underflows, goes to the low end).
+    if (!outer_rows.Span(dy, &out_lo, &out_hi)) continue;
+    // Widened by a pixel, so that rounding never drops a pixel the exact test in scan() would keep,
+    // and clamped to [x0 - 1, x1 + 1] in doubles before conversion (NaN goes to the low end).
     auto to_x = [&](double v) { return v >= x0 - 1.0 ? static_cast<int>(std::min(v, x1 + 1.0)) : x0 - 1; };
     const int xa = std::max(x0, to_x(std::floor(inner.cx + out_lo)) - 1);
     const int xb = std::min(x1, to_x(std::ceil(inner.cx + out_hi)) + 1);
     if (xa > xb) continue;
     int skip_a = xb + 1, skip_b = xb;  // [skip_a, skip_b]: inside k_min * inner, not scanned
-    if (span(dy, k_min2, &in_lo, &in_hi)) {
+    if (inner_rows.Span(dy, &in_lo, &in_hi)) {
       skip_a = std::max(xa, to_x(std::ceil(inner.cx + in_lo)) + 1);
       skip_b = std::min(xb, to_x(std::floor(inner.cx + in_hi)) - 1);
     }
