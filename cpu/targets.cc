@@ -32,6 +32,8 @@ void SobelImpl(const std::uint8_t* src, std::ptrdiff_t src_stride, int width, in
 void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
              int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
              std::ptrdiff_t out_stride);
+void HysteresisImpl(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
+                    std::int32_t* stack);
 void EdgeSignImpl(const std::uint8_t* edges, std::ptrdiff_t edge_stride, const std::int16_t* dx,
                   const std::int16_t* dy, std::ptrdiff_t stride, int width, int height,
                   std::uint8_t* out, std::ptrdiff_t out_stride);
@@ -43,13 +45,14 @@ simd::TargetKernels TargetKernelsImpl() {
   simd::TargetKernels k;
   k.target = HWY_TARGET;
   k.name = hwy::TargetName(HWY_TARGET);
-  k.table = ScalarKernels();  // hysteresis stays the reference: a sequential flood fill
+  k.table = ScalarKernels();
   k.table.backend = Backend::kSimd;
   k.table.simd_target = k.name;
   k.table.gaussian = &GaussianImpl;
   k.table.sobel = &SobelImpl;
   k.table.magnitude_histogram = &simd::MagnitudeHistogram;  // plain C++, one copy for all targets
   k.table.nms = &NmsImpl;
+  k.table.hysteresis = &HysteresisImpl;
   k.table.edge_sign = &EdgeSignImpl;
   k.table.polyline = &PolylineImpl;
   k.table.arc_stats = &ArcStatsFromSplitsImpl;

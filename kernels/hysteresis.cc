@@ -4,11 +4,10 @@
 
 #include "kernels/nms.h"
 
-namespace ellipsekit::scalar {
+namespace ellipsekit {
 
 namespace {
-constexpr std::uint8_t kEdgeMark = 3;  // a strong or reached pixel, before the final relabel
-constexpr int kPackShift = 15;         // stack entries are (y << 15) | x: no division per pixel
+constexpr int kPackShift = 15;  // stack entries are (y << 15) | x: no division per pixel
 static_assert((16384 << kPackShift) > 0, "y << kPackShift fits int32 for the 16384-px limit");
 
 // True when one of the 8 bytes at p is kNmsStrong (the classic "has a zero byte" test on p ^ 2..2).
@@ -18,52 +17,58 @@ bool HasStrongByte(const std::uint8_t* p) {
   const std::uint64_t x = w ^ (0x0101010101010101ull * kNmsStrong);
   return ((x - 0x0101010101010101ull) & ~x & 0x8080808080808080ull) != 0;
 }
-}
+}  // namespace
 
-void Hysteresis(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
-                std::int32_t* stack) {
+void HysteresisFlood(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
+                     std::int32_t* stack, int x, int y) {
   std::int64_t top = 0;
   auto reach = [&](int nx, int ny) {
     std::uint8_t& q = map[ny * stride + nx];
     if (q == kNmsWeak || q == kNmsStrong) {
-      q = kEdgeMark;
+      q = kHysteresisMark;
       stack[top++] = (ny << kPackShift) | nx;
     }
   };
+  map[y * stride + x] = kHysteresisMark;
+  stack[top++] = (y << kPackShift) | x;
+  while (top > 0) {
+    const std::int32_t packed = stack[--top];
+    const int cy = packed >> kPackShift, cx = packed & ((1 << kPackShift) - 1);
+    if (cx > 0 && cy > 0 && cx + 1 < width && cy + 1 < height) {  // interior: no bounds tests
+      reach(cx - 1, cy - 1); reach(cx, cy - 1); reach(cx + 1, cy - 1);
+      reach(cx - 1, cy);                         reach(cx + 1, cy);
+      reach(cx - 1, cy + 1); reach(cx, cy + 1); reach(cx + 1, cy + 1);
+      continue;
+    }
+    for (int ny = cy - 1; ny <= cy + 1; ++ny) {
+      if (ny < 0 || ny >= height) continue;
+      for (int nx = cx - 1; nx <= cx + 1; ++nx) {
+        if (nx >= 0 && nx < width) reach(nx, ny);
+      }
+    }
+  }
+}
+
+namespace scalar {
+
+void Hysteresis(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
+                std::int32_t* stack) {
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      // Strong pixels are rare: skip 8 at a time (the flood only ever writes kEdgeMark, so a
-      // word without a strong byte never gains one).
+      // Strong pixels are rare: skip 8 at a time (the flood only ever writes kHysteresisMark,
+      // so a word without a strong byte never gains one).
       if (x + 8 <= width && (x & 7) == 0 && !HasStrongByte(map + y * stride + x)) {
         x += 7;
         continue;
       }
-      std::uint8_t& p = map[y * stride + x];
-      if (p != kNmsStrong) continue;
-      p = kEdgeMark;
-      stack[top++] = (y << kPackShift) | x;
-      while (top > 0) {
-        const std::int32_t packed = stack[--top];
-        const int cy = packed >> kPackShift, cx = packed & ((1 << kPackShift) - 1);
-        if (cx > 0 && cy > 0 && cx + 1 < width && cy + 1 < height) {  // interior: no bounds tests
-          reach(cx - 1, cy - 1); reach(cx, cy - 1); reach(cx + 1, cy - 1);
-          reach(cx - 1, cy);                         reach(cx + 1, cy);
-          reach(cx - 1, cy + 1); reach(cx, cy + 1); reach(cx + 1, cy + 1);
-          continue;
-        }
-        for (int ny = cy - 1; ny <= cy + 1; ++ny) {
-          if (ny < 0 || ny >= height) continue;
-          for (int nx = cx - 1; nx <= cx + 1; ++nx) {
-            if (nx >= 0 && nx < width) reach(nx, ny);
-          }
-        }
-      }
+      if (map[y * stride + x] == kNmsStrong) HysteresisFlood(map, width, height, stride, stack, x, y);
     }
   }
   for (int y = 0; y < height; ++y) {
     std::uint8_t* row = map + y * stride;
-    for (int x = 0; x < width; ++x) row[x] = (row[x] == kEdgeMark) ? 1 : 0;
+    for (int x = 0; x < width; ++x) row[x] = (row[x] == kHysteresisMark) ? 1 : 0;
   }
 }
 
-}  // namespace ellipsekit::scalar
+}  // namespace scalar
+}  // namespace ellipsekit

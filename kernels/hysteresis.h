@@ -12,9 +12,21 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace ellipsekit::scalar {
+namespace ellipsekit {
+
+// What a flood writes over each pixel it reaches, before the final relabel to 1 / 0.
+inline constexpr std::uint8_t kHysteresisMark = 3;
+
+// The flood both CPU versions share: marks the strong pixel (x, y) and every weak or strong pixel
+// 8-connected to it with kHysteresisMark. `stack` as for Hysteresis. A pixel once marked is never
+// pushed again, so a frame's floods together push each pixel at most once.
+void HysteresisFlood(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
+                     std::int32_t* stack, int x, int y);
+
+namespace scalar {
 
 void Hysteresis(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
                 std::int32_t* stack);
 
-}  // namespace ellipsekit::scalar
+}  // namespace scalar
+}  // namespace ellipsekit
