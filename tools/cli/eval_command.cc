@@ -48,6 +48,9 @@ const char kEvalUsage[] =
     "  --per-image       print one line per image before the totals\n"
     "  --curve FILE.png  sweep the score threshold: write the precision-recall curve to FILE.png and\n"
     "                    its points to FILE.csv, print the average precision (tools/eval/pr_curve.h)\n"
+    "  --write-scaled DIR  also write the frames as scored: DIR/images/<stem>.png (lossless) and\n"
+    "                    DIR/gt/<stem>.txt (the truth mapped as for --scale), a dataset that other\n"
+    "                    detectors can be run on\n"
     "  --draw DIR        write DIR/<image stem>.png: the (scaled) image with the truth in red, correct\n"
     "                    detections in green, false ones in yellow\n"
     "  --by LIST         also print recall per group: kind, size (semi-minor < 15, 15-30, >= 30 px),\n"
@@ -66,6 +69,7 @@ struct EvalArgs {
   double scale = 1;
   std::string json_path;
   std::string draw_dir;
+  std::string scaled_dir;  // --write-scaled
   std::string curve_path;
   std::vector<eval::GroupBy> by;  // --by
 };
@@ -95,6 +99,9 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
     } else if (name == "--curve") {
       a.curve_path = r.Value();
       if (std::filesystem::path(a.curve_path).extension() != ".png") throw UsageError("--curve needs a .png file name");
+    } else if (name == "--write-scaled") {
+      a.scaled_dir = r.Value();
+      if (a.scaled_dir.empty()) throw UsageError("--write-scaled needs a directory");
     } else if (name == "--draw") {
       a.draw_dir = r.Value();
       if (a.draw_dir.empty()) throw UsageError("--draw needs a directory");
@@ -160,6 +167,16 @@ Status DrawMatches(const std::string& dir, const std::string& stem, const cv::Ma
   return Status::Ok();
 }
 
+// --write-scaled: the frame and its truth as they were scored, as a dataset of its own.
+Status WriteScaled(const std::string& dir, const std::string& stem, const cv::Mat& gray,
+                   const std::vector<Ellipse>& truth) {
+  const std::filesystem::path root(dir);
+  const std::string image = (root / "images" / (stem + ".png")).string();
+  std::string error;
+  if (!WriteImageAtomically(image, gray, &error)) return {StatusCode::kInternal, image + ": " + error};
+  return eval::WriteEllipses((root / "gt" / (stem + ".txt")).string(), truth);
+}
+
 void ClearProgress(bool enabled) {
   if (enabled) std::fputs("\r\033[K", stderr);
 }
@@ -190,6 +207,12 @@ int RunEval(const std::vector<std::string>& argv) {
   if (!args.draw_dir.empty() && !EnsureDirectory(args.draw_dir, &error)) {
     std::fprintf(stderr, "ellipsekit eval: %s\n", error.c_str());
     return kExitFailure;
+  }
+  for (const char* sub : {"images", "gt"}) {
+    if (!args.scaled_dir.empty() && !EnsureDirectory((std::filesystem::path(args.scaled_dir) / sub).string(), &error)) {
+      std::fprintf(stderr, "ellipsekit eval: %s\n", error.c_str());
+      return kExitFailure;
+    }
   }
   if (const std::string parent = std::filesystem::path(args.curve_path).parent_path().string();
       !args.curve_path.empty() && !parent.empty() && !EnsureDirectory(parent, &error)) {
@@ -236,6 +259,7 @@ int RunEval(const std::vector<std::string>& argv) {
           }
           if (!args.by.empty()) st = breakdown.AddImage(args.dataset, item.stem, truth, match);
           if (st.ok() && !args.draw_dir.empty()) st = DrawMatches(args.draw_dir, item.stem, image.gray, truth, result.ellipses, match);
+          if (st.ok() && !args.scaled_dir.empty()) st = WriteScaled(args.scaled_dir, item.stem, image.gray, truth);
           total += match.counts;
           ran = result.backend;
         } else {
