@@ -26,7 +26,7 @@ struct StageTimings {
   double arcs_ms = 0;      // polyline, turn angles, split, arc statistics, quadrants
   double fit_ms = 0;       // grouping, centres, parameters, K and psi (eqs. 3-16)
   double validate_ms = 0;  // edge coverage, clustering (eq. 17), outer-rim search
-  double total_ms = 0;
+  double total_ms = 0;     // the whole detect(): the stages above, the pyramid reduction, coarser levels
 };
 
 // Which caps of Options were hit on the last frame (the result is then partial).
