@@ -73,9 +73,11 @@ bool IsolatedPixel(const std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t 
 
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
-                 int min_points, Curves* out, TraceScratch* scratch) {
+                 int min_points, Curves* out, TraceScratch* scratch, int short_min_points,
+                 int* short_curves) {
   out->clear();
   int edge_pixels = 0;
+  int short_count = 0;
   const std::ptrdiff_t pitch = width + 2;
   std::ptrdiff_t offset[8];
   for (int k = 0; k < 8; ++k) offset[k] = kStepY[k] * pitch + kStepX[k];
@@ -107,7 +109,10 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
       Follow(work.data(), offset, p, x, y, cls, &scratch->backward);
       const std::size_t n = scratch->forward.size() + scratch->backward.size() + 1;
       edge_pixels += static_cast<int>(n);
-      if (n < static_cast<std::size_t>(min_points)) continue;
+      if (n < static_cast<std::size_t>(min_points)) {
+        short_count += n >= static_cast<std::size_t>(short_min_points);
+        continue;
+      }
       auto append = [&](std::int32_t xy) {
         const int py = xy >> 16, px = xy & 0xffff;
         out->x.push_back(px);
@@ -122,6 +127,7 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
       out->offset.push_back(static_cast<std::int32_t>(out->x.size()));
     }
   }
+  if (short_curves) *short_curves = short_count;
   return edge_pixels;
 }
 

@@ -23,9 +23,12 @@ struct TraceScratch {
 // edge_map: kEdgeNone / kEdgePlus / kEdgeMinus per pixel, rows `stride` bytes apart.
 // dx, dy: Sobel gradients, rows grad_stride elements apart. Curves shorter than min_points are
 // dropped (T_n). Appends to `out` after clearing it. Returns the number of edge pixels (kept or not).
+// short_curves, when not null: set to the number of dropped curves of at least short_min_points
+// points (the detector's crowd pass decides with it whether a shorter T_n is worth a second trace).
 // Frames are at most 16384 px a side (points are packed in 16 bits per coordinate while traced).
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
-                 int min_points, Curves* out, TraceScratch* scratch);
+                 int min_points, Curves* out, TraceScratch* scratch, int short_min_points = 0,
+                 int* short_curves = nullptr);
 
 }  // namespace ellipsekit

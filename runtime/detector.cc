@@ -51,6 +51,11 @@ Status ValidateOptions(const Options& o) {
     return Invalid("polyline_tolerance must be in (0, 4] px");
   if (!Finite(o.split_angle_deg) || o.split_angle_deg <= 0 || o.split_angle_deg > 60)
     return Invalid("split_angle_deg (T_theta) must be in (0, 60] degrees");
+  if (o.crowd_min_curve_points < 3) return Invalid("crowd_min_curve_points must be >= 3 (>= min_curve_points: no crowd pass)");
+  if (o.crowd_min_short_curves < 0) return Invalid("crowd_min_short_curves must be >= 0");
+  if (!Finite(o.crowd_max_minor_axis) || o.crowd_max_minor_axis < 0) return Invalid("crowd_max_minor_axis must be a finite number >= 0 px");
+  if (o.crowd_min_small_found < 0) return Invalid("crowd_min_small_found must be >= 0");
+  if (o.crowd_min_similar < 0) return Invalid("crowd_min_similar must be >= 0");
   if (std::isnan(o.pair_reach) || !(o.pair_reach > 0)) return Invalid("pair_reach must be > 0 (inf: no reach limit)");
   if (!Finite(o.center_distance) || o.center_distance <= 0) return Invalid("center_distance (T_c) must be > 0");
   if (!Finite(o.mean_shift_bandwidth) || o.mean_shift_bandwidth <= 0) return Invalid("mean_shift_bandwidth must be > 0");
@@ -168,7 +173,8 @@ void Detector::Impl::Resize(int w, int h) {
   // Edge pixels after NMS: 1-6 % of a photograph's or a crowded frame's pixels, up to 22 % on
   // the noisiest generated scenes (measured: `ellipsekit detect --format json`, counts).
   const std::size_t points = n / kEdgeShare;
-  const std::size_t curve_count = points / static_cast<std::size_t>(std::max(3, options.min_curve_points)) + 1;
+  const int shortest_curve = std::min(options.min_curve_points, options.crowd_min_curve_points);  // the crowd pass's
+  const std::size_t curve_count = points / static_cast<std::size_t>(std::max(3, shortest_curve)) + 1;
   const std::size_t long_curve = std::min<std::size_t>(points, 4 * (static_cast<std::size_t>(w) + h));
   const std::size_t arc_count = std::min<std::size_t>(points / 8, ReserveFor(options.max_arcs));
   for (Curves* c : {&curves, &curves_scratch}) {
@@ -191,6 +197,8 @@ void Detector::Impl::Resize(int w, int h) {
   cluster_scratch.head.reserve(static_cast<std::size_t>((ClusterScratch::kMaxCells + 1) * (ClusterScratch::kMaxCells + 1)));
   cluster_scratch.next.reserve(ReserveFor(options.max_candidates));
   by_coverage.reserve(ReserveFor(options.max_candidates));
+  minor_axes.reserve(ReserveFor(options.max_candidates));
+  crowd_result.ellipses.reserve(ReserveFor(options.max_candidates));
   boxes.reserve(ReserveFor(options.max_candidates));
   dropped.reserve(ReserveFor(options.max_candidates));
   claimed_near.reserve(2 * ReserveFor(options.max_candidates));
@@ -309,8 +317,8 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
   const auto t1 = Clock::now();
 
   // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
-  const int edge_pixels =
-      TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points, &curves, &trace);
+  const int edge_pixels = TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points,
+                                      &curves, &trace, options.crowd_min_curve_points, &front.short_curves);
   FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
   const auto t2 = Clock::now();
 

@@ -4,6 +4,7 @@
 // two threads. Private to the library.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -45,6 +46,14 @@ inline Box BoundingBox(const Ellipse& e, double margin) {
   return {e.cx - hx, e.cy - hy, e.cx + hx, e.cy + hy};
 }
 
+// The same object found twice (on two pyramid levels, or by the crowd pass and the main one):
+// centres within 0.25 b, axes within 25 %.
+inline bool Overlapping(const Ellipse& v, const Ellipse& w) {
+  const double b = std::min(v.b, w.b);
+  return std::hypot(v.cx - w.cx, v.cy - w.cy) < 0.25 * b && std::abs(v.a - w.a) < 0.25 * std::max(v.a, w.a) &&
+         std::abs(v.b - w.b) < 0.25 * std::max(v.b, w.b);
+}
+
 struct Detector::Impl {
   Options options;
   Status status;
@@ -79,6 +88,10 @@ struct Detector::Impl {
   std::vector<Box> boxes;
   std::vector<std::uint8_t> dropped;
   std::vector<std::uint8_t> claimed_near;  // coarse levels: which kept ellipses claimed their edges
+  // Options::crowd_min_curve_points: the crowd pass runs the back end a second time on these
+  // buffers (the first pass's curves, arcs and candidates are spent once its ellipses are out).
+  DetectionResult crowd_result;
+  std::vector<double> minor_axes;  // the crowd pass's semi-minor axes, sorted
 
   // The first frame of a size sizes the buffers (detector.cc).
   void Resize(int w, int h);
@@ -107,10 +120,12 @@ struct Detector::Impl {
     bool arcs_capped = false;
     bool arcs_done = false;  // the arc stage ran on the device; else the back end runs it
     int edge_pixels = 0;
+    int short_curves = 0;  // curves of crowd_min_curve_points to min_curve_points - 1 points
     double total_ms = 0, edges_ms = 0, curves_ms = 0, arcs_ms = 0;
   } front;
   void CompleteOuterRims(int kept, GroupStats* stats);
   int KeepExclusivelySupported(int kept);
+  void AddCrowdPass(DetectionResult* result);  // detector_crowd.cc
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 

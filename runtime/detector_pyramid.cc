@@ -56,13 +56,6 @@ void ScaleUp(int from, int to, std::vector<Ellipse>* ellipses) {
   }
 }
 
-// The same object found on two levels: centres within 0.25 b, axes within 25 %.
-bool Overlapping(const Ellipse& v, const Ellipse& w) {
-  const double b = std::min(v.b, w.b);
-  return std::hypot(v.cx - w.cx, v.cy - w.cy) < 0.25 * b && std::abs(v.a - w.a) < 0.25 * std::max(v.a, w.a) &&
-         std::abs(v.b - w.b) < 0.25 * std::max(v.b, w.b);
-}
-
 }  // namespace
 
 Status Detector::Impl::PixelStage(const ImageView& input) {
@@ -81,6 +74,7 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
   // Arcs run in the pixel stage on the device, else inside BackEndAt (and so inside `start`'s span).
   const bool arcs_in_front = front.arcs_done;
   BackEndAt(r);
+  AddCrowdPass(r);
   const int level = front.level;
   ImageView image = front.image;
   claimed_near.clear();

@@ -64,6 +64,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"min_exclusive_coverage", &Options::min_exclusive_coverage},
       {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
       {"pair_reach", &Options::pair_reach},
+      {"crowd_max_minor_axis", &Options::crowd_max_minor_axis},
       {"min_axis_ratio", &Options::min_axis_ratio},
   };
   static const IntField ints[] = {
@@ -75,6 +76,9 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"max_image_pixels", &Options::max_image_pixels}, {"pyramid_level", &Options::pyramid_level},
       {"pyramid_max_pixels", &Options::pyramid_max_pixels}, {"coarse_levels", &Options::coarse_levels},
       {"coarse_min_pixels", &Options::coarse_min_pixels},
+      {"crowd_min_curve_points", &Options::crowd_min_curve_points},
+      {"crowd_min_short_curves", &Options::crowd_min_short_curves}, {"crowd_min_similar", &Options::crowd_min_similar},
+      {"crowd_min_small_found", &Options::crowd_min_small_found},
   };
   for (const DoubleField& f : doubles) {
     if (name == f.name) return ParseDouble(value, &(o->*f.field)) ? Status::Ok() : bad("a number");

@@ -46,7 +46,9 @@ inline constexpr CapFlags kAllCaps[] = {kCapArcs, kCapPairs, kCapTriplets, kCapC
 const char* CapName(CapFlags cap);
 
 struct DetectionResult {
-  std::vector<Ellipse> ellipses;  // best score first
+  // Best score first within each pass: the working level's ellipses, then what the crowd pass
+  // (Options::crowd_min_curve_points) added, then what each coarser level added (coarse_levels).
+  std::vector<Ellipse> ellipses;
   StageTimings timings;
   Backend backend = Backend::kScalar;  // the backend that ran (the edge stage's)
   // The backend that ran the arc stage (polyline, arc split, arc statistics). Differs from

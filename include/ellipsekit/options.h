@@ -94,6 +94,24 @@ struct Options {
   double polyline_tolerance = 1.5;
   double split_angle_deg = 35.0;    // T_theta: split where |theta_{i+1} - theta_i| > this, (0, 60]
 
+  // ---- crowd pass (our addition; measured in docs/crowded-scenes.md)
+  // Small outlines (semi-minor axis of a few px: dots of a calibration target, caps of a tray seen
+  // from afar) are traced as curves shorter than T_n, one per gradient class. When the trace drops
+  // at least crowd_min_short_curves curves of crowd_min_curve_points to T_n - 1 points, and the
+  // frame is a crowd (the back end found at least crowd_min_small_found ellipses of semi-minor
+  // axis <= crowd_max_minor_axis, or the dropped short curves outnumber the kept ones 4 to 1), the
+  // back end runs again on the same edge map traced with crowd_min_curve_points as T_n. An ellipse
+  // it finds is added when its semi-minor axis is at most crowd_max_minor_axis px (at the working
+  // pyramid level), it is not one found already, and that pass found at least crowd_min_similar
+  // other ellipses of a similar size (semi-minor axis within a factor of 2): one of a crowd of
+  // small ellipses, not a short curve of texture. Skipped on a frame whose first pass reached a
+  // cap. crowd_min_curve_points >= min_curve_points turns the pass off.
+  int crowd_min_curve_points = 12;
+  int crowd_min_short_curves = 32;
+  int crowd_min_small_found = 24;
+  double crowd_max_minor_axis = 20.0;
+  int crowd_min_similar = 8;
+
   // ---- grouping and centre (sec. II-B-3, II-C-1)
   CenterMethod center_method = CenterMethod::kLongestChords;
   // Our addition: two arcs of consecutive quadrants are paired only when an end of one lies within

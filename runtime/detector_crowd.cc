@@ -1,0 +1,59 @@
+// The crowd pass (Options::crowd_min_curve_points): the back end again, on the same edge map traced
+// with a shorter T_n, for the small ellipses of a crowded frame whose outlines the paper's T_n
+// drops. Measured in docs/crowded-scenes.md.
+#include <algorithm>
+
+#include "runtime/detector_impl.h"
+
+namespace ellipsekit {
+
+namespace {
+// Measured: frames of dots the first pass misses drop 4-30x more short curves than they keep;
+// photographs and tabletop scenes at most 2.1x (docs/crowded-scenes.md).
+constexpr int kCrowdShortToLong = 4;
+}  // namespace
+
+// Runs after BackEndAt at the working level, before the coarser levels; adds to r->ellipses in
+// the working level's coordinates. Bounded like the first pass: the same caps (a cap it reaches
+// is reported in r->caps_hit), and it runs only when the first pass reached none.
+void Detector::Impl::AddCrowdPass(DetectionResult* r) {
+  if (options.crowd_min_curve_points >= options.min_curve_points || r->caps_hit != kCapNone ||
+      front.short_curves < options.crowd_min_short_curves)
+    return;
+  // A crowd: the first pass found many small ellipses, or found little while the trace dropped
+  // several times more short curves than it kept (dots too small for T_n; texture drops fewer).
+  int small = 0;
+  for (const Ellipse& e : r->ellipses) small += e.b <= options.crowd_max_minor_axis;
+  if (small < options.crowd_min_small_found && front.short_curves < kCrowdShortToLong * r->num_curves) return;
+  // The first pass's ellipses are in r: its curves, arcs and candidates make room for this pass's.
+  const int first_min_points = options.min_curve_points;
+  options.min_curve_points = options.crowd_min_curve_points;  // T_n of the trace and the arcs
+  TraceCurves(edge_map.data(), width, dx.data(), dy.data(), width, width, height, options.min_curve_points, &curves,
+              &trace);
+  FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
+  const bool arcs_done = front.arcs_done;
+  front.arcs_done = false;  // the device's arcs were the first pass's curves: CPU arcs now, exact alike
+  BackEndAt(&crowd_result);
+  front.arcs_done = arcs_done;
+  options.min_curve_points = first_min_points;
+  r->caps_hit |= crowd_result.caps_hit;
+
+  // A crowd of similar small ellipses: the semi-minor axes of this pass, sorted, count the
+  // similar ones of each in O(log n).
+  const std::vector<Ellipse>& found = crowd_result.ellipses;
+  minor_axes.clear();
+  for (const Ellipse& e : found) minor_axes.push_back(e.b);
+  std::sort(minor_axes.begin(), minor_axes.end());
+  const std::size_t first_pass = r->ellipses.size();
+  for (const Ellipse& e : found) {
+    if (!(e.b <= options.crowd_max_minor_axis)) continue;
+    const auto similar = std::upper_bound(minor_axes.begin(), minor_axes.end(), 2 * e.b) -
+                         std::lower_bound(minor_axes.begin(), minor_axes.end(), 0.5 * e.b) - 1;  // less e itself
+    if (similar < options.crowd_min_similar) continue;
+    bool known = false;
+    for (std::size_t i = 0; i < first_pass && !known; ++i) known = Overlapping(r->ellipses[i], e);
+    if (!known) r->ellipses.push_back(e);
+  }
+}
+
+}  // namespace ellipsekit
