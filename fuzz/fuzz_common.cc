@@ -106,10 +106,12 @@ void CheckResult(const DetectionResult& r, int w, int h, const Options& o) {
     Fail("negative count", none);
   if (r.num_arcs > o.max_arcs) Fail("num_arcs above max_arcs", none);
   // Options::max_pairs: a quarter of it per kind of pair, four consecutive kinds and (with
-  // pair_candidates) two opposite ones, at least one pair per kind.
-  if (static_cast<long long>(r.num_pairs) > 6LL * std::max(1, o.max_pairs / 4)) Fail("num_pairs above max_pairs", none);
-  if (r.num_triplets > o.max_triplets) Fail("num_triplets above max_triplets", none);
-  if (r.num_candidates > o.max_candidates) Fail("num_candidates above max_candidates", none);
+  // pair_candidates) two opposite ones, at least one pair per kind. The counts hold both passes
+  // at the working level (the crowd pass, Options::crowd_min_curve_points), each within the caps.
+  const long long passes = 2;
+  if (r.num_pairs > passes * 6LL * std::max(1, o.max_pairs / 4)) Fail("num_pairs above max_pairs", none);
+  if (r.num_triplets > passes * o.max_triplets) Fail("num_triplets above max_triplets", none);
+  if (r.num_candidates > passes * o.max_candidates) Fail("num_candidates above max_candidates", none);
   if (r.ellipses.size() > static_cast<std::size_t>(r.num_candidates)) Fail("more ellipses than candidates", none);
   unsigned known = 0;
   for (CapFlags cap : kAllCaps) known |= cap;

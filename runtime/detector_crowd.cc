@@ -15,7 +15,8 @@ constexpr int kCrowdShortToLong = 4;
 
 // Runs after BackEndAt at the working level, before the coarser levels; adds to r->ellipses in
 // the working level's coordinates. Bounded like the first pass: the same caps (a cap it reaches
-// is reported in r->caps_hit), and it runs only when the first pass reached none.
+// is reported in r->caps_hit), and it runs only when the first pass reached none. Its pairs,
+// triplets and candidates are added to r's counts.
 void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   if (options.crowd_min_curve_points >= options.min_curve_points || r->caps_hit != kCapNone ||
       front.short_curves < options.crowd_min_short_curves)
@@ -37,6 +38,9 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   front.arcs_done = arcs_done;
   options.min_curve_points = first_min_points;
   r->caps_hit |= crowd_result.caps_hit;
+  r->num_pairs += crowd_result.num_pairs;  // the grouping's work counts both passes
+  r->num_triplets += crowd_result.num_triplets;
+  r->num_candidates += crowd_result.num_candidates;
 
   // A crowd of similar small ellipses: the semi-minor axes of this pass, sorted, count the
   // similar ones of each in O(log n).

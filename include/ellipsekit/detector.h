@@ -61,9 +61,11 @@ struct DetectionResult {
   int num_edge_pixels = 0;
   int num_curves = 0;
   int num_arcs = 0;
+  // The grouping's work at the working level: its first pass plus the crowd pass when that ran
+  // (Options::crowd_min_curve_points), each pass within the caps, so at most twice a cap.
   int num_pairs = 0;       // arc pairs that passed the position test and gave a centre
-  int num_triplets = 0;    // triplets examined (bounded by Options::max_triplets)
-  int num_candidates = 0;  // groups that passed K and psi (bounded by Options::max_candidates)
+  int num_triplets = 0;    // triplets examined (Options::max_triplets per pass)
+  int num_candidates = 0;  // groups that passed K and psi (Options::max_candidates per pass)
 };
 
 class Detector {

@@ -205,7 +205,8 @@ struct Options {
   // scenes is flatter than 0.2, while the stripes of a textured table fit long, flat ones.
   double min_axis_ratio = 0.15;
 
-  // ---- caps (bounded work): when one is hit, DetectionResult::caps_hit says which
+  // ---- caps (bounded work): when one is hit, DetectionResult::caps_hit says which. They bound
+  // each pass at the working level (the first, and the crowd pass when it runs).
   int max_arcs = 4096;              // arcs kept per frame (longest first)
   // Measured need (`ellipsekit detect --format json`): the 200 generated scenes (seed 7) and the 30
   // shared dataset images at most 850 pairs, 269 triplets, 206 candidates; crowded scenes
