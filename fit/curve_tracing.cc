@@ -74,7 +74,7 @@ bool IsolatedPixel(const std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t 
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
                  int min_points, Curves* out, TraceScratch* scratch, int short_min_points,
-                 int* short_curves) {
+                 int* short_curves, const std::uint8_t* skip) {
   out->clear();
   int edge_pixels = 0;
   int short_count = 0;
@@ -88,6 +88,10 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
     std::uint8_t* row = work.data() + (y + 1) * pitch;
     row[0] = 0;
     std::copy(edge_map + y * stride, edge_map + y * stride + width, row + 1);
+    if (skip) {
+      const std::uint8_t* skip_row = skip + static_cast<std::ptrdiff_t>(y) * width;
+      for (int x = 0; x < width; ++x) row[x + 1] = skip_row[x] ? 0 : row[x + 1];
+    }
     row[width + 1] = 0;
   }
   std::fill(work.end() - pitch, work.end(), 0);

@@ -25,10 +25,12 @@ struct TraceScratch {
 // dropped (T_n). Appends to `out` after clearing it. Returns the number of edge pixels (kept or not).
 // short_curves, when not null: set to the number of dropped curves of at least short_min_points
 // points (the detector's crowd pass decides with it whether a shorter T_n is worth a second trace).
+// skip, when not null: width x height bytes, row-major without padding; edge pixels where it is
+// non-zero are left out (the crowd pass: the edges of the ellipses found already).
 // Frames are at most 16384 px a side (points are packed in 16 bits per coordinate while traced).
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
                  int min_points, Curves* out, TraceScratch* scratch, int short_min_points = 0,
-                 int* short_curves = nullptr);
+                 int* short_curves = nullptr, const std::uint8_t* skip = nullptr);
 
 }  // namespace ellipsekit

@@ -197,7 +197,7 @@ void Detector::Impl::Resize(int w, int h) {
   cluster_scratch.head.reserve(static_cast<std::size_t>((ClusterScratch::kMaxCells + 1) * (ClusterScratch::kMaxCells + 1)));
   cluster_scratch.next.reserve(ReserveFor(options.max_candidates));
   by_coverage.reserve(ReserveFor(options.max_candidates));
-  minor_axes.reserve(ReserveFor(options.max_candidates));
+  minor_axes.reserve(2 * ReserveFor(options.max_candidates));
   crowd_result.ellipses.reserve(ReserveFor(options.max_candidates));
   boxes.reserve(ReserveFor(options.max_candidates));
   dropped.reserve(ReserveFor(options.max_candidates));

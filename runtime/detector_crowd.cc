@@ -1,6 +1,6 @@
-// The crowd pass (Options::crowd_min_curve_points): the back end again, on the same edge map traced
-// with a shorter T_n, for the small ellipses of a crowded frame whose outlines the paper's T_n
-// drops. Measured in docs/crowded-scenes.md.
+// The crowd pass (Options::crowd_min_curve_points): the back end again, with a shorter T_n, on the
+// edges the ellipses found so far leave unexplained, for the small ellipses of a crowded frame
+// whose outlines the paper's T_n drops. Measured in docs/crowded-scenes.md.
 #include <algorithm>
 
 #include "runtime/detector_impl.h"
@@ -29,8 +29,12 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   // The first pass's ellipses are in r: its curves, arcs and candidates make room for this pass's.
   const int first_min_points = options.min_curve_points;
   options.min_curve_points = options.crowd_min_curve_points;  // T_n of the trace and the arcs
+  // Only the edges the first pass's ellipses leave unexplained: this pass looks for new ones, and
+  // re-finding those it has would double the pass's cost (crowded frames: most of its work).
+  for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
   TraceCurves(edge_map.data(), width, dx.data(), dy.data(), width, width, height, options.min_curve_points, &curves,
-              &trace);
+              &trace, 0, nullptr, claims.mask.data());
+  claims.Clear();  // the back end's scratch
   FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
   const bool arcs_done = front.arcs_done;
   front.arcs_done = false;  // the device's arcs were the first pass's curves: CPU arcs now, exact alike
@@ -42,10 +46,11 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   r->num_triplets += crowd_result.num_triplets;
   r->num_candidates += crowd_result.num_candidates;
 
-  // A crowd of similar small ellipses: the semi-minor axes of this pass, sorted, count the
+  // A crowd of similar small ellipses: the semi-minor axes of both passes, sorted, count the
   // similar ones of each in O(log n).
   const std::vector<Ellipse>& found = crowd_result.ellipses;
   minor_axes.clear();
+  for (const Ellipse& e : r->ellipses) minor_axes.push_back(e.b);
   for (const Ellipse& e : found) minor_axes.push_back(e.b);
   std::sort(minor_axes.begin(), minor_axes.end());
   const std::size_t first_pass = r->ellipses.size();

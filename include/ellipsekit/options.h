@@ -100,11 +100,11 @@ struct Options {
   // at least crowd_min_short_curves curves of crowd_min_curve_points to T_n - 1 points, and the
   // frame is a crowd (the back end found at least crowd_min_small_found ellipses of semi-minor
   // axis <= crowd_max_minor_axis, or the dropped short curves outnumber the kept ones 4 to 1), the
-  // back end runs again on the same edge map traced with crowd_min_curve_points as T_n. An ellipse
-  // it finds is added when its semi-minor axis is at most crowd_max_minor_axis px (at the working
-  // pyramid level), it is not one found already, and that pass found at least crowd_min_similar
-  // other ellipses of a similar size (semi-minor axis within a factor of 2): one of a crowd of
-  // small ellipses, not a short curve of texture. Skipped on a frame whose first pass reached a
+  // back end runs again on the edges the ellipses found so far leave unexplained, traced with
+  // crowd_min_curve_points as T_n. An ellipse it finds is added when its semi-minor axis is at
+  // most crowd_max_minor_axis px (at the working pyramid level), it is not one found already, and
+  // the two passes found at least crowd_min_similar other ellipses of a similar size (semi-minor
+  // axis within a factor of 2): one of a crowd of small ellipses, not a short curve of texture. Skipped on a frame whose first pass reached a
   // cap. crowd_min_curve_points >= min_curve_points turns the pass off.
   int crowd_min_curve_points = 12;
   int crowd_min_short_curves = 32;
