@@ -104,8 +104,9 @@ struct Options {
   // crowd_min_curve_points as T_n. An ellipse it finds is added when its semi-minor axis is at
   // most crowd_max_minor_axis px (at the working pyramid level), it is not one found already, and
   // the two passes found at least crowd_min_similar other ellipses of a similar size (semi-minor
-  // axis within a factor of 2): one of a crowd of small ellipses, not a short curve of texture. Skipped on a frame whose first pass reached a
-  // cap. crowd_min_curve_points >= min_curve_points turns the pass off.
+  // axis within a factor of 2): one of a crowd of small ellipses, not a short curve of texture.
+  // Skipped on a frame whose first pass reached a cap. crowd_min_curve_points >= min_curve_points
+  // turns the pass off.
   int crowd_min_curve_points = 12;
   int crowd_min_short_curves = 32;
   int crowd_min_small_found = 24;
