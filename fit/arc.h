@@ -33,8 +33,9 @@ struct Candidate {
   // Set by ClusterCandidates on a cluster reference: the outer rim chosen for it, if any.
   bool has_rim = false;
   Ellipse rim;
-  // Set by ClusterCandidates on a cluster reference: the member with the best FitShare so far,
-  // and how many members were tried.
+  // Set by ClusterCandidates on a cluster reference: the member with the best FitShare so far
+  // (the share -1 until a first member is tried: a lone reference is never measured), and how
+  // many members were tried.
   Ellipse best_fit;
   double best_fit_share = -1;
   int fit_tries = 0;

@@ -40,28 +40,29 @@ bool PassesObbRule(const Curves& curves, int begin, int end, const Options& opti
   return obb.long_side <= options.obb_threshold * std::max(obb.short_side, 1.0);
 }
 
-void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull,
-                       Curves* scratch) {
-  scratch->clear();
-  // The two swap roles every frame: each must hold what the other does, or a frame that grew
-  // `curves` would make the next one (same size, same content) grow `scratch` in its place.
-  scratch->x.reserve(curves->x.capacity());
-  scratch->y.reserve(curves->y.capacity());
-  scratch->gx.reserve(curves->gx.capacity());
-  scratch->gy.reserve(curves->gy.capacity());
-  scratch->sign_class.reserve(curves->sign_class.capacity());
-  scratch->offset.reserve(curves->offset.capacity());
-  for (int c = 0; c < curves->size(); ++c) {
-    const int b = curves->offset[c], e = curves->offset[c + 1];
-    if (!PassesObbRule(*curves, b, e, options, hull)) continue;
-    scratch->x.insert(scratch->x.end(), curves->x.begin() + b, curves->x.begin() + e);
-    scratch->y.insert(scratch->y.end(), curves->y.begin() + b, curves->y.begin() + e);
-    scratch->gx.insert(scratch->gx.end(), curves->gx.begin() + b, curves->gx.begin() + e);
-    scratch->gy.insert(scratch->gy.end(), curves->gy.begin() + b, curves->gy.begin() + e);
-    scratch->sign_class.push_back(curves->sign_class[c]);
-    scratch->offset.push_back(static_cast<std::int32_t>(scratch->x.size()));
+void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull) {
+  Curves& c = *curves;
+  int kept = 0;
+  std::int32_t to = 0;  // where the next kept curve's points go (<= where they are)
+  for (int i = 0; i < c.size(); ++i) {
+    const std::int32_t b = c.offset[i], e = c.offset[i + 1];
+    if (!PassesObbRule(c, b, e, options, hull)) continue;
+    if (to != b) {
+      std::copy(c.x.begin() + b, c.x.begin() + e, c.x.begin() + to);
+      std::copy(c.y.begin() + b, c.y.begin() + e, c.y.begin() + to);
+      std::copy(c.gx.begin() + b, c.gx.begin() + e, c.gx.begin() + to);
+      std::copy(c.gy.begin() + b, c.gy.begin() + e, c.gy.begin() + to);
+    }
+    c.sign_class[kept] = c.sign_class[i];
+    to += e - b;
+    c.offset[++kept] = to;  // offset[i + 1] was read above, before this write can reach it
   }
-  std::swap(*curves, *scratch);
+  c.x.resize(static_cast<std::size_t>(to));
+  c.y.resize(static_cast<std::size_t>(to));
+  c.gx.resize(static_cast<std::size_t>(to));
+  c.gy.resize(static_cast<std::size_t>(to));
+  c.sign_class.resize(static_cast<std::size_t>(kept));
+  c.offset.resize(static_cast<std::size_t>(kept) + 1);
 }
 
 }  // namespace ellipsekit

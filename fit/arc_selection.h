@@ -20,10 +20,8 @@ namespace ellipsekit {
 bool PassesObbRule(const Curves& curves, int begin, int end, const Options& options,
                    std::vector<std::int64_t>* hull);
 
-// Drops the curves that fail the OBB rule (in place: the kept ones end up in *curves, by a swap
-// with *scratch, which is first given the capacity of *curves).
-void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull,
-                       Curves* scratch);
+// Drops the curves that fail the OBB rule, in place: the kept ones move down, in order.
+void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull);
 
 struct ArcScratch {
   Polylines polylines;

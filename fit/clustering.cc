@@ -128,7 +128,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
       grid.Add(static_cast<int>(kept), c[i].ellipse);
       c[kept].has_rim = false;
       c[kept].best_fit = c[i].ellipse;
-      c[kept].best_fit_share = pick_best_fit ? check->FitShare(c[i], -1) : -1;
+      c[kept].best_fit_share = -1;  // measured when a first member is tried (most clusters have none)
       c[kept].fit_tries = 0;
       ++kept;
       continue;
@@ -149,6 +149,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     const bool same_size = scale < kRimMaxScale && scale > 1 / kRimMaxScale;
     if (pick_best_fit && !outer && same_size && !IsOuterRim(ref.ellipse, c[i].ellipse) &&
         ref.fit_tries++ < kFitTries) {
+      if (ref.best_fit_share < 0) ref.best_fit_share = check->FitShare(ref, -1);
       const double share = check->FitShare(c[i], ref.best_fit_share);
       if (share > ref.best_fit_share && passes(c[i])) {
         ref.best_fit_share = share;

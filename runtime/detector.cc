@@ -177,10 +177,8 @@ void Detector::Impl::Resize(int w, int h) {
   const std::size_t curve_count = points / static_cast<std::size_t>(std::max(3, shortest_curve)) + 1;
   const std::size_t long_curve = std::min<std::size_t>(points, 4 * (static_cast<std::size_t>(w) + h));
   const std::size_t arc_count = std::min<std::size_t>(points / 8, ReserveFor(options.max_arcs));
-  for (Curves* c : {&curves, &curves_scratch}) {
-    c->x.reserve(points); c->y.reserve(points); c->gx.reserve(points); c->gy.reserve(points);
-    c->offset.reserve(curve_count + 1); c->sign_class.reserve(curve_count);
-  }
+  curves.x.reserve(points); curves.y.reserve(points); curves.gx.reserve(points); curves.gy.reserve(points);
+  curves.offset.reserve(curve_count + 1); curves.sign_class.reserve(curve_count);
   trace.forward.reserve(long_curve);
   trace.backward.reserve(long_curve);
   const auto obb_scratch = static_cast<std::size_t>(ObbScratchSize(long_curve, std::min<std::size_t>(long_curve, w)));
@@ -319,7 +317,7 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
   // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
   const int edge_pixels = TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points,
                                       &curves, &trace, options.crowd_min_curve_points, &front.short_curves);
-  FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
+  FilterCurvesByObb(options, &curves, &hull);
   const auto t2 = Clock::now();
 
   front.ran = ran;

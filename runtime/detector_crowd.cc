@@ -35,7 +35,7 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   TraceCurves(edge_map.data(), width, dx.data(), dy.data(), width, width, height, options.min_curve_points, &curves,
               &trace, 0, nullptr, claims.mask.data());
   claims.Clear();  // the back end's scratch
-  FilterCurvesByObb(options, &curves, &hull, &curves_scratch);
+  FilterCurvesByObb(options, &curves, &hull);
   const bool arcs_done = front.arcs_done;
   front.arcs_done = false;  // the device's arcs were the first pass's curves: CPU arcs now, exact alike
   BackEndAt(&crowd_result);

@@ -74,7 +74,7 @@ struct Detector::Impl {
   std::vector<std::uint16_t> mag;
   std::vector<std::uint32_t> hist;
   std::vector<std::int32_t> stack;
-  Curves curves, curves_scratch;
+  Curves curves;
   TraceScratch trace;
   std::vector<std::int64_t> hull;
   ArcScratch arc_scratch;

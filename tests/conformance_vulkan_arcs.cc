@@ -301,9 +301,8 @@ TEST(ConformanceVulkanArcs, RejectsMalformedCurves) {
 // The curves runtime/detector.cc fits arcs to: traced from the scalar edge stage, OBB-filtered.
 Curves DatasetCurves(const cv::Mat& gray, const Options& o) {
   Curves curves = stage_test::ScalarCurves(ViewOf(gray), o, o.min_curve_points);
-  Curves scratch;
   std::vector<std::int64_t> hull;
-  FilterCurvesByObb(o, &curves, &hull, &scratch);
+  FilterCurvesByObb(o, &curves, &hull);
   return curves;
 }
 

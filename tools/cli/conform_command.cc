@@ -478,11 +478,10 @@ int RunConform(const std::vector<std::string>& argv) {
     RunEdgeChain(ScalarKernels(), img, options, &ref.e);
     {
       TraceScratch trace;
-      Curves scratch;
       std::vector<std::int64_t> hull;
       TraceCurves(ref.e.edges.data(), ref.e.edges.stride, ref.e.dx.data(), ref.e.dy.data(), ref.e.dx.stride,
                   img.width, img.height, options.min_curve_points, &ref.curves, &trace);
-      FilterCurvesByObb(options, &ref.curves, &hull, &scratch);
+      FilterCurvesByObb(options, &ref.curves, &hull);
     }
     RunArcStage(ScalarKernels(), ref.curves, options, nullptr, &ref.arcs);
     st = reference_detector.detect(img, &ref.result);
