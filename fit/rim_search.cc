@@ -61,7 +61,7 @@ int Sector64(double x, double y) {
 }  // namespace
 
 bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
-                  long* scanned_pixels) {
+                  long* scanned_pixels, const RimContacts* contacts) {
   *scanned_pixels = 0;
   if (!(inner.b >= 2) || !(inner.a >= inner.b)) return false;
   const double k_min = std::max(kRimSearchMinScale, 1 + 1.5 / inner.b), k_max = kRimSearchMaxScale;
@@ -138,6 +138,7 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
   }
   *scanned_pixels = scanned;
   int best = -1, best_covered = 0, best_half = 0;
+  std::uint64_t best_band = 0;
   for (int i = 0; i < bins; ++i) {
     std::uint64_t band = 0;
     for (int j = std::max(0, i - half); j <= std::min(bins - 1, i + half); ++j) band |= sectors[j];
@@ -145,13 +146,11 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     if (covered > best_covered) {
       best_covered = covered;
       best = i;
+      best_band = band;
       best_half = std::max(std::popcount(band & 0xffffffffull), std::popcount(band >> 32));
     }
   }
-  // Sectors [0, 32) are the half v < 0 of the ellipse frame, [32, 64) the half v > 0.
-  const bool half_backed =
-      best_half >= kRimHalfCoverage * (kSectors / 2) && best_covered >= kRimHalfMinCoverage * kSectors;
-  if (best < 0 || (best_covered < min_coverage * kSectors && !half_backed)) return false;
+  if (best < 0) return false;
   double sum = 0;
   int n = 0;
   for (int j = std::max(0, best - half); j <= std::min(bins - 1, best + half); ++j) {
@@ -159,6 +158,14 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     n += count[j];
   }
   const double k = sum / n;
+  // Sectors [0, 32) are the half v < 0 of the ellipse frame, [32, 64) the half v > 0.
+  const bool half_backed =
+      best_half >= kRimHalfCoverage * (kSectors / 2) && best_covered >= kRimHalfMinCoverage * kSectors;
+  if (best_covered < min_coverage * kSectors && !half_backed) {
+    if (contacts == nullptr || best_covered < kRimHalfMinCoverage * kSectors) return false;
+    const int explained = std::popcount(contacts->Touching(inner, k) & ~best_band);
+    if (best_covered < min_coverage * (kSectors - explained)) return false;
+  }
   *outer = inner;
   outer->a = k * inner.a;
   outer->b = k * inner.b;

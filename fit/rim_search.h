@@ -8,6 +8,8 @@
 // gradient is normal to it, over enough of its angular extent.
 #pragma once
 
+#include <cstdint>
+
 #include "ellipsekit/types.h"
 #include "fit/edge_map_view.h"
 
@@ -23,6 +25,19 @@ inline constexpr double kRimSearchMaxScale = 1.45;
 inline constexpr double kRimHalfCoverage = 0.9;
 inline constexpr double kRimHalfMinCoverage = 0.5;
 
+// Where a rim touches another object (cups packed in a tray, cans in a crate), the two bright rims
+// meet without an edge between them: those sectors are explained, not missing. A rim that fails
+// the tests above is accepted when its coverage reaches min_coverage of the sectors that are not
+// explained, and kRimHalfMinCoverage of all 64. Sectors are numbered by the angle of (-u, -v),
+// (u, v) a point's coordinates in the unit-circle frame of the inner ellipse: sector s spans
+// [s, s + 1) pi / 32.
+class RimContacts {
+ public:
+  virtual ~RimContacts() = default;
+  // Bit s set: the middle of sector s of the rim k * inner lies against another object.
+  virtual std::uint64_t Touching(const Ellipse& inner, double k) const = 0;
+};
+
 // Searches k * inner for k in [max(kRimSearchMinScale, 1 + 1.5 / inner.b), kRimSearchMaxScale]:
 // an edge pixel supports scale r (its normalised radius in inner's frame) when its gradient is
 // within ~26 degrees of the ellipse normal there; the scale whose +-1 px band has supporting
@@ -31,8 +46,8 @@ inline constexpr double kRimHalfMinCoverage = 0.5;
 // inner) when that coverage is >= min_coverage, or the half rule above holds. Scans only the
 // annulus between k_min * inner and k_max * inner, row by row (clipped to the frame);
 // *scanned_pixels = the pixels scanned, the work
-// done. No allocation.
+// done. With `contacts`, the contact rule above too. No allocation.
 bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
-                  long* scanned_pixels);
+                  long* scanned_pixels, const RimContacts* contacts = nullptr);
 
 }  // namespace ellipsekit

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -235,6 +236,52 @@ TEST(RimSearch, HalfBackedRingPassesBelowMinCoverage) {
   EXPECT_NEAR(out.a / Inner().a, 1.2, 0.02);
   EXPECT_FALSE(ellipsekit::FindOuterRim(quarters.Input(), Inner(), 0.6, &out, &scanned));
   EXPECT_TRUE(ellipsekit::FindOuterRim(quarters.Input(), Inner(), 0.45, &out, &scanned));
+}
+
+// RimContacts that marks the sectors whose middle lies in the parametric ranges [t0, t1) of
+// `ranges` (rim_search.h numbers sectors by the angle of (-u, -v), that is t + pi).
+class ContactsAt final : public ellipsekit::RimContacts {
+ public:
+  explicit ContactsAt(std::vector<std::pair<double, double>> ranges) : ranges_(std::move(ranges)) {}
+  std::uint64_t Touching(const Ellipse&, double) const override {
+    std::uint64_t mask = 0;
+    for (int s = 0; s < 64; ++s) {
+      const double t = std::fmod((s + 0.5) * std::numbers::pi / 32 + std::numbers::pi, kTwoPi);
+      for (const auto& [t0, t1] : ranges_) {
+        if (t >= t0 && t < t1) mask |= std::uint64_t{1} << s;
+      }
+    }
+    return mask;
+  }
+
+ private:
+  std::vector<std::pair<double, double>> ranges_;
+};
+
+// A rim backed over 55 % of its angle, its two gaps where neighbours touch it: accepted when the
+// contacts explain the gaps, not without them, not when they explain only a sliver, and never
+// when less than half of the rim is backed (rim_search.h, RimContacts).
+TEST(RimSearch, ContactsExplainTheGapsOfATouchingRim) {
+  EdgeFrame f;
+  f.Ring(Inner(), 1.0, 0, kTwoPi);
+  f.Ring(Inner(), 1.2, 0, 0.3 * kTwoPi);
+  f.Ring(Inner(), 1.2, 0.5 * kTwoPi, 0.75 * kTwoPi);
+  const ContactsAt gaps({{0.3 * kTwoPi, 0.5 * kTwoPi}, {0.75 * kTwoPi, kTwoPi}});
+  const ContactsAt sliver({{0.3 * kTwoPi, 0.35 * kTwoPi}});
+  Ellipse out;
+  long scanned = 0;
+  EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.6, &out, &scanned));
+  EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.6, &out, &scanned, &sliver));
+  ASSERT_TRUE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.6, &out, &scanned, &gaps));
+  EXPECT_NEAR(out.a / Inner().a, 1.2, 0.02);
+  EXPECT_NEAR(out.b / Inner().b, 1.2, 0.02);
+
+  EdgeFrame thin;  // 40 % backed: below kRimHalfMinCoverage, whatever the contacts
+  thin.Ring(Inner(), 1.0, 0, kTwoPi);
+  thin.Ring(Inner(), 1.2, 0, 0.2 * kTwoPi);
+  thin.Ring(Inner(), 1.2, 0.5 * kTwoPi, 0.7 * kTwoPi);
+  const ContactsAt everywhere({{0, kTwoPi}});
+  EXPECT_FALSE(ellipsekit::FindOuterRim(thin.Input(), Inner(), 0.6, &out, &scanned, &everywhere));
 }
 
 // Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;
