@@ -1,5 +1,6 @@
 // Detector::Impl: the buffers and the steps of one Detector. runtime/detector.cc holds the steps
-// of one pyramid level, split into the pixel stage and the back end; runtime/detector_pyramid.cc
+// of one pyramid level, split into the pixel stage and the back end, runtime/detector_checks.cc
+// the back end's last checks, runtime/detector_crowd.cc its crowd pass; runtime/detector_pyramid.cc
 // the pyramid levels around them; runtime/stream.cc runs the two stages of several Detectors on
 // two threads. Private to the library.
 #pragma once
@@ -124,8 +125,8 @@ struct Detector::Impl {
     int short_curves = 0;  // curves of crowd_min_curve_points to min_curve_points - 1 points
     double total_ms = 0, edges_ms = 0, curves_ms = 0, arcs_ms = 0;
   } front;
-  void CompleteOuterRims(int kept, GroupStats* stats);
-  int KeepExclusivelySupported(int kept);
+  void CompleteOuterRims(int kept, GroupStats* stats);  // detector_checks.cc
+  int KeepExclusivelySupported(int kept);              // detector_checks.cc
   void AddCrowdPass(DetectionResult* result);  // detector_crowd.cc
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
