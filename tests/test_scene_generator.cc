@@ -267,6 +267,60 @@ TEST(ConveyorScene, TriangleWaveMotion) {
   EXPECT_NEAR(p[2], 0.1, 1e-12);
 }
 
+// exposure_s: the images average the motion over the shutter time (blur along the guide), the
+// truth and the depth stay those of mid-exposure; out-of-range values are rejected.
+TEST(ConveyorScene, ExposureBlursTheImageOnly) {
+  sc::ConveyorSceneOptions co;
+  co.width = 320;
+  co.height = 240;
+  co.frames = 4;
+  co.speed_m_s = 2;  // ~20 px per frame at this size
+  co.noise_sigma = 0;  // so that the gradient energy below is the scene's alone
+  auto render = [&](double exposure) {
+    co.exposure_s = exposure;
+    std::vector<sc::ConveyorFrame> frames;
+    EXPECT_TRUE(sc::RenderConveyorSequence(5, co, nullptr, [&](const sc::ConveyorFrame& f) {
+                  frames.push_back(f);
+                  return ellipsekit::Status::Ok();
+                }).ok());
+    return frames;
+  };
+  const std::vector<sc::ConveyorFrame> still = render(0), blurred = render(1 / co.fps);
+  ASSERT_EQ(still.size(), 4u);
+  ASSERT_EQ(blurred.size(), 4u);
+  // Edge energy along the motion (the sum of squared directional derivatives, which a blur
+  // along that direction lowers) around the top: the blurred image has clearly less.
+  auto energy = [](const cv::Mat& gray, const Ellipse& e, cv::Vec2d motion) {
+    const int r = static_cast<int>(e.a) + 30;
+    const cv::Rect box = cv::Rect(static_cast<int>(e.cx) - r, static_cast<int>(e.cy) - r, 2 * r, 2 * r) &
+                         cv::Rect(0, 0, gray.cols, gray.rows);
+    cv::Mat gx, gy;
+    cv::Sobel(gray(box), gx, CV_32F, 1, 0);
+    cv::Sobel(gray(box), gy, CV_32F, 0, 1);
+    motion /= cv::norm(motion);
+    const cv::Mat along = gx * motion[0] + gy * motion[1];
+    return along.dot(along);
+  };
+  for (std::size_t i = 1; i < still.size(); ++i) {  // frame 0 starts at rest (t - exposure / 2 < 0)
+    EXPECT_LT(cv::norm(still[i].top_centre - blurred[i].top_centre), 1e-12);
+    EXPECT_EQ(still[i].truth.cx, blurred[i].truth.cx);
+    EXPECT_EQ(still[i].truth.a, blurred[i].truth.a);
+    EXPECT_EQ(cv::norm(still[i].depth_mm, blurred[i].depth_mm, cv::NORM_INF), 0);
+    const cv::Vec2d motion = still[i].top_pixel - still[i - 1].top_pixel;
+    const double e_still = energy(still[i].gray, still[i].truth, motion);
+    const double e_blurred = energy(blurred[i].gray, blurred[i].truth, motion);
+    EXPECT_GT(cv::norm(motion), 10);
+    EXPECT_LT(e_blurred, 0.5 * e_still) << "frame " << i << ": " << e_still << " -> " << e_blurred;
+  }
+  co = {};
+  co.exposure_s = -0.001;
+  EXPECT_FALSE(sc::ValidateConveyorOptions(co).ok());
+  co.exposure_s = 1.5 / co.fps;
+  EXPECT_FALSE(sc::ValidateConveyorOptions(co).ok());
+  co.exposure_s = 1 / co.fps;
+  EXPECT_TRUE(sc::ValidateConveyorOptions(co).ok());
+}
+
 TEST(ConveyorScene, FramesHaveExactTruthAndDepth) {
   sc::ConveyorSceneOptions co;
   co.width = 320;

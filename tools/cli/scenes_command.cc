@@ -18,7 +18,7 @@ const char kScenesUsage[] =
     "Usage: ellipsekit scenes --out DIR [--count N] [--seed S]\n"
     "       ellipsekit scenes --crowded [--layout L] [--objects N] --out DIR [--count N] [--seed S]\n"
     "       ellipsekit scenes --hard [--size WxH] --out DIR [--count N] [--seed S]\n"
-    "       ellipsekit scenes --conveyor [--speed V] --out DIR [--seed S]\n"
+    "       ellipsekit scenes --conveyor [--speed V] [--exposure T] --out DIR [--seed S]\n"
     "       ellipsekit scenes --stack|--crossing [--speed V] [--frames N] --out DIR [--seed S]\n"
     "\n"
     "Writes N generated scenes (ray-cast cylinders, exact ground truth) as a dataset:\n"
@@ -53,6 +53,8 @@ const char kScenesUsage[] =
     "  --hard            write the hard tabletop set (see above)\n"
     "  --conveyor        write a conveyor sequence (see above)\n"
     "  --speed V         conveyor speed in m/s, 0 < V <= 10 (default 0.05; needs --conveyor or --crossing)\n"
+    "  --exposure T      with --conveyor: shutter time in s, 0 <= T <= 1/30 (default 0): each image\n"
+    "                    averages the can's motion over T (motion blur); truth and depth at mid-exposure\n"
     "  --stack           write a static stacking sequence (see above)\n"
     "  --crossing        write a sequence of two cans crossing (see above)\n"
     "  --frames N        frames of a --stack or --crossing sequence, 1 <= N <= 100000\n"
@@ -74,6 +76,8 @@ int RunScenes(const std::vector<std::string>& argv) {
   int frames = 0;  // 0: the default of the sequence kind
   double speed = 0.05;
   std::string speed_text;
+  double exposure = 0;
+  bool exposure_given = false;
   std::string container_name;
   bool metal_top = false;
   ArgReader r(argv);
@@ -128,11 +132,19 @@ int RunScenes(const std::vector<std::string>& argv) {
       speed = std::strtod(speed_text.c_str(), &end);
       if (speed_text.empty() || *end != '\0' || !(speed > 0 && speed <= 10))
         throw UsageError("--speed: bad value '" + speed_text + "' (metres per second, 0 < V <= 10)");
+    } else if (name == "--exposure") {
+      const std::string v = r.Value();
+      char* end = nullptr;
+      exposure = std::strtod(v.c_str(), &end);
+      exposure_given = true;
+      if (v.empty() || *end != '\0' || !(exposure >= 0 && exposure <= 1.0 / 30))
+        throw UsageError("--exposure: bad value '" + v + "' (seconds, 0 <= T <= 1/30)");
     } else {
       throw UsageError("unknown option '" + name + "'");
     }
   }
   if (out.empty()) throw UsageError("--out DIR is required");
+  if (exposure_given && !conveyor) throw UsageError("--exposure needs --conveyor");
   if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) + static_cast<int>(crowded) +
           static_cast<int>(hard) > 1)
     throw UsageError("--conveyor, --stack, --crossing, --crowded and --hard exclude each other");
@@ -156,6 +168,7 @@ int RunScenes(const std::vector<std::string>& argv) {
     co.speed_m_s = speed;
     co.container = container;
     co.metal_top = metal_top;
+    co.exposure_s = exposure;
     scenes::ConveyorSequence info;
     const Status cst = scenes::WriteConveyorSequence(out, seed, co, &info);
     if (!cst.ok()) {

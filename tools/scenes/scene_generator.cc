@@ -155,6 +155,7 @@ ellipsekit::Status ValidateConveyorOptions(const ConveyorSceneOptions& o) {
   if (!(o.depth_noise_mm >= 0 && o.depth_noise_mm <= 1000)) return bad("depth_noise_mm must be finite and >= 0");
   if (!(o.depth_invalid_fraction >= 0 && o.depth_invalid_fraction <= 1))
     return bad("depth_invalid_fraction must be in [0, 1]");
+  if (!(o.exposure_s >= 0 && o.exposure_s <= 1 / o.fps)) return bad("exposure_s must be in [0, 1 / fps]");
   return ellipsekit::Status::Ok();
 }
 

@@ -116,6 +116,10 @@ struct ConveyorSceneOptions {
   double depth_invalid_fraction = 0.01;
   Container container = Container::kFlatCan;  // what rides the guide (see Container)
   bool metal_top = false;
+  // Shutter time, s, 0 <= exposure_s <= 1 / fps: each image averages the scene over
+  // [t - exposure_s / 2, t + exposure_s / 2] (motion blur along the guide; 16 sub-frames); the
+  // truth and the depth image are at t. 0: every image is a still at t.
+  double exposure_s = 0;
 };
 
 struct ConveyorFrame {

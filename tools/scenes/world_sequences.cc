@@ -109,18 +109,32 @@ ellipsekit::Status World::BuildConveyor(const ConveyorSceneOptions& co, std::uin
   if (info != nullptr) *info = seq;
 
   Rng drng(Mix64(seed ^ 0x6A09E667F3BCC909ull));
-  std::vector<float> img;
+  std::vector<float> img, sub_img;
   std::vector<double> z;
+  constexpr int kExposureSamples = 16;  // sub-frames of a blurred image
   for (int i = 0; i < co.frames; ++i) {
     ConveyorFrame fr;
     fr.index = i;
     fr.t = i / co.fps;
     const cv::Vec3d p = seq.TopCentreAt(fr.t);
     Cylinder& c = cyl_[0];
+    if (co.exposure_s > 0) {  // the mean of the sub-frames spread over the shutter time
+      img.assign(bg.size(), 0.0f);
+      for (int k = 0; k < kExposureSamples; ++k) {
+        const double dt = ((k + 0.5) / kExposureSamples - 0.5) * co.exposure_s;
+        if (!MoveTopTo(seq.TopCentreAt(fr.t + dt), &c))
+          return Status(StatusCode::kInternal, "conveyor: degenerate top ellipse");
+        sub_img = bg;
+        RenderRect(RedrawRect(c), &sub_img);
+        for (std::size_t q = 0; q < img.size(); ++q) img[q] += sub_img[q] * (1.0f / kExposureSamples);
+      }
+    }
     if (!MoveTopTo(p, &c)) return Status(StatusCode::kInternal, "conveyor: degenerate top ellipse");
     const IRect r = RedrawRect(c);
-    img = bg;
-    RenderRect(r, &img);
+    if (!(co.exposure_s > 0)) {
+      img = bg;
+      RenderRect(r, &img);
+    }
     z = bgz;
     RenderDepth(r, &z);
     Finish(img, &fr.gray);
