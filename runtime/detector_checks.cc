@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "fit/recessed_rim.h"
 #include "fit/rim_search.h"
 #include "runtime/detector_impl.h"
 
@@ -122,8 +123,15 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     Ellipse rim;
     long scanned = 0;
     const NeighbourContacts contacts(candidates, kept, is_rim, boxes, i);
-    const bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned, &contacts);
+    bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned, &contacts);
     budget -= scanned;
+    // No concentric rim: a recessed lid's rim (fit/recessed_rim.h), when it runs into no other
+    // kept ellipse (a rim found through a neighbour's outline is not this top's).
+    if (!found && FindRecessedRim(in, c.ellipse, &refit_scratch, &rim)) {
+      const Box reach = BoundingBox(rim, 0);
+      found = true;
+      for (int j = 0; j < kept && found; ++j) found = j == i || !BoundingBox(candidates[j].ellipse, 0).Intersects(reach);
+    }
     if (!found) continue;
     // Already detected as an ellipse of its own (then both stay): nearly the same ellipse, by
     // ClusterRule::kRelative at 0.1, not by eq. 17's 25 px, which would also match a different

@@ -17,6 +17,7 @@
 #include "ellipsekit/detector.h"
 #include "fit/edge_coverage.h"
 #include "fit/edge_refit.h"
+#include "fit/recessed_rim.h"
 #include "fit/rim_search.h"
 
 namespace {
@@ -282,6 +283,45 @@ TEST(RimSearch, ContactsExplainTheGapsOfATouchingRim) {
   thin.Ring(Inner(), 1.2, 0.5 * kTwoPi, 0.7 * kTwoPi);
   const ContactsAt everywhere({{0, kTwoPi}});
   EXPECT_FALSE(ellipsekit::FindOuterRim(thin.Input(), Inner(), 0.6, &out, &scanned, &everywhere));
+}
+
+// A recessed lid's rim (fit/recessed_rim.h): wider along b than along a and centred higher than
+// the lid's outline; found from the lid, close to where it was drawn. Not found when nothing is
+// drawn there, nor when the only larger ellipse lies lower than the lid (no rim sits so).
+TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
+  Ellipse lid = Inner();
+  lid.theta = 0.1;
+  const double up_x = std::sin(lid.theta), up_y = -std::cos(lid.theta);  // minor axis, up in the image
+  auto rim_at = [&](double shift_b) {
+    Ellipse r = lid;
+    r.cx += shift_b * lid.b * up_x;
+    r.cy += shift_b * lid.b * up_y;
+    r.a *= 1.15;
+    r.b *= 1.3;
+    return r;
+  };
+  ellipsekit::EdgeRefitScratch scratch;
+  scratch.Reserve(kW, kH);
+  Ellipse found;
+  EdgeFrame f;
+  f.Ring(lid, 1.0, 0, kTwoPi);
+  const Ellipse rim = rim_at(0.2);
+  f.Ring(rim, 1.0, 0, kTwoPi);
+  ASSERT_TRUE(ellipsekit::FindRecessedRim(f.Input(), lid, &scratch, &found));
+  EXPECT_NEAR(found.cx, rim.cx, 0.5);
+  EXPECT_NEAR(found.cy, rim.cy, 0.5);
+  EXPECT_NEAR(found.a, rim.a, 0.5);
+  EXPECT_NEAR(found.b, rim.b, 0.5);
+  EXPECT_EQ(found.score, lid.score);
+
+  EdgeFrame alone;
+  alone.Ring(lid, 1.0, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindRecessedRim(alone.Input(), lid, &scratch, &found));
+
+  EdgeFrame below;
+  below.Ring(lid, 1.0, 0, kTwoPi);
+  below.Ring(rim_at(-0.2), 1.0, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindRecessedRim(below.Input(), lid, &scratch, &found));
 }
 
 // Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;

@@ -1,0 +1,50 @@
+#include "fit/recessed_rim.h"
+
+#include <cmath>
+
+#include "fit/arc.h"
+#include "fit/conic_refine.h"
+#include "fit/edge_coverage.h"
+#include "fit/point_moments.h"
+
+namespace ellipsekit {
+
+namespace {
+constexpr int kRefits = 3;
+constexpr double kBandPx = 2.0;  // EdgePointsNear's distance for each refit
+constexpr int kMinPoints = 12;
+}  // namespace
+
+bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim) {
+  const double c = std::cos(lid.theta), s = std::sin(lid.theta);
+  double ux = -s, uy = c;  // the minor axis, pointing up in the image (y down)
+  if (uy > 0) {
+    ux = -ux;
+    uy = -uy;
+  }
+  Ellipse g = lid;
+  g.cx += kRecessedRimUp * lid.b * ux;
+  g.cy += kRecessedRimUp * lid.b * uy;
+  g.a *= kRecessedRimA;
+  g.b *= kRecessedRimB;
+  if (FineEdgeCoverage(in, g, kRecessedRimGuessShare) <= kRecessedRimGuessShare) return false;
+  for (int k = 0; k < kRefits; ++k) {
+    const int n = EdgePointsNear(in, g, kBandPx, &scratch->x, &scratch->y);
+    if (n < kMinPoints) return false;
+    Arc points;  // RefineEllipse reads only the moments
+    points.moments = MomentsOfPoints(scratch->x.data(), scratch->y.data(), 0, n - 1, scratch->x[0], scratch->y[0]);
+    const Arc* group[1] = {&points};
+    if (!RefineEllipse(group, 1, &g)) return false;
+  }
+  const double up = (g.cx - lid.cx) * ux + (g.cy - lid.cy) * uy;
+  const double across = std::abs((g.cx - lid.cx) * c + (g.cy - lid.cy) * s);
+  const double ka = g.a / lid.a, kb = g.b / lid.b;
+  if (!(up >= -0.05 * lid.b && up <= 0.35 * lid.b && across <= 0.15 * lid.b)) return false;
+  if (!(ka >= 1.03 && ka <= 1.4 && kb >= 1.05 && kb <= 1.55 && kb >= ka - 0.02)) return false;
+  if (FineEdgeCoverage(in, g, kRecessedRimMinShare) < kRecessedRimMinShare) return false;
+  *rim = g;
+  rim->score = lid.score;
+  return true;
+}
+
+}  // namespace ellipsekit
