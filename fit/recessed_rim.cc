@@ -1,6 +1,8 @@
 #include "fit/recessed_rim.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "fit/arc.h"
 #include "fit/conic_refine.h"
@@ -15,7 +17,9 @@ constexpr double kBandPx = 2.0;  // EdgePointsNear's distance for each refit
 constexpr int kMinPoints = 12;
 }  // namespace
 
-bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim) {
+bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim,
+                     long* scanned_pixels) {
+  *scanned_pixels = 0;
   const double c = std::cos(lid.theta), s = std::sin(lid.theta);
   double ux = -s, uy = c;  // the minor axis, pointing up in the image (y down)
   if (uy > 0) {
@@ -28,7 +32,11 @@ bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch
   g.a *= kRecessedRimA;
   g.b *= kRecessedRimB;
   if (FineEdgeCoverage(in, g, kRecessedRimGuessShare) <= kRecessedRimGuessShare) return false;
+  const double frame = static_cast<double>(in.width) * in.height;
   for (int k = 0; k < kRefits; ++k) {
+    // The band EdgePointsNear reads: the outline's length (at most 2 pi max(a, b)) times its width
+    // (2 kBandPx + 2 px), never more than the frame.
+    *scanned_pixels += static_cast<long>(std::min(frame, 2 * std::numbers::pi * std::max(g.a, g.b) * (2 * kBandPx + 2)));
     const int n = EdgePointsNear(in, g, kBandPx, &scratch->x, &scratch->y);
     if (n < kMinPoints) return false;
     Arc points;  // RefineEllipse reads only the moments

@@ -30,8 +30,10 @@ inline constexpr double kRecessedRimMinShare = 0.85;
 inline constexpr double kRecessedRimGuessShare = 0.5;
 
 // True and *rim set (score kept from lid) when a recessed lid's rim is found around `lid`. Work:
-// one FineEdgeCoverage, then at most three scans of a 6 px band along the guess and a fit.
-// No allocation once scratch is reserved.
-bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim);
+// one FineEdgeCoverage, then at most three scans of a 6 px band along the guess and a fit;
+// *scanned_pixels = a bound on the pixels those scans read (the caller's budget). No allocation
+// once scratch is reserved.
+bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim,
+                     long* scanned_pixels);
 
 }  // namespace ellipsekit

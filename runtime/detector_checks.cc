@@ -127,9 +127,10 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     budget -= scanned;
     // No concentric rim: a recessed lid's rim (fit/recessed_rim.h), when it runs into no other
     // kept ellipse (a rim found through a neighbour's outline is not this top's).
-    if (!found && FindRecessedRim(in, c.ellipse, &refit_scratch, &rim)) {
-      const Box reach = BoundingBox(rim, 0);
-      found = true;
+    if (!found && budget > 0) {
+      found = FindRecessedRim(in, c.ellipse, &refit_scratch, &rim, &scanned);
+      budget -= scanned;
+      const Box reach = found ? BoundingBox(rim, 0) : Box{};
       for (int j = 0; j < kept && found; ++j) found = j == i || !BoundingBox(candidates[j].ellipse, 0).Intersects(reach);
     }
     if (!found) continue;

@@ -307,7 +307,10 @@ TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
   f.Ring(lid, 1.0, 0, kTwoPi);
   const Ellipse rim = rim_at(0.2);
   f.Ring(rim, 1.0, 0, kTwoPi);
-  ASSERT_TRUE(ellipsekit::FindRecessedRim(f.Input(), lid, &scratch, &found));
+  long scanned = 0;
+  ASSERT_TRUE(ellipsekit::FindRecessedRim(f.Input(), lid, &scratch, &found, &scanned));
+  EXPECT_GT(scanned, 0);
+  EXPECT_LE(scanned, 3L * kW * kH);
   EXPECT_NEAR(found.cx, rim.cx, 0.5);
   EXPECT_NEAR(found.cy, rim.cy, 0.5);
   EXPECT_NEAR(found.a, rim.a, 0.5);
@@ -316,12 +319,12 @@ TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
 
   EdgeFrame alone;
   alone.Ring(lid, 1.0, 0, kTwoPi);
-  EXPECT_FALSE(ellipsekit::FindRecessedRim(alone.Input(), lid, &scratch, &found));
+  EXPECT_FALSE(ellipsekit::FindRecessedRim(alone.Input(), lid, &scratch, &found, &scanned));
 
   EdgeFrame below;
   below.Ring(lid, 1.0, 0, kTwoPi);
   below.Ring(rim_at(-0.2), 1.0, 0, kTwoPi);
-  EXPECT_FALSE(ellipsekit::FindRecessedRim(below.Input(), lid, &scratch, &found));
+  EXPECT_FALSE(ellipsekit::FindRecessedRim(below.Input(), lid, &scratch, &found, &scanned));
 }
 
 // Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;
