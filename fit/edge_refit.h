@@ -33,4 +33,9 @@ struct EdgeRefitScratch {
 // scratch is reserved.
 bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch);
 
+// One step of it, without its checks: *e fitted to the edge pixels within `distance` px of it
+// (EdgePointsNear), keeping its score; false (*e left alone) when fewer than 12 are there or they
+// give no ellipse. Also the recessed-rim search's step (fit/recessed_rim.h).
+bool FitToEdgesNear(const EdgeMapView& in, double distance, EdgeRefitScratch* scratch, Ellipse* e);
+
 }  // namespace ellipsekit

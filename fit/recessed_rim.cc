@@ -4,17 +4,13 @@
 #include <cmath>
 #include <numbers>
 
-#include "fit/arc.h"
-#include "fit/conic_refine.h"
 #include "fit/edge_coverage.h"
-#include "fit/point_moments.h"
 
 namespace ellipsekit {
 
 namespace {
 constexpr int kRefits = 3;
-constexpr double kBandPx = 2.0;  // EdgePointsNear's distance for each refit
-constexpr int kMinPoints = 12;
+constexpr double kBandPx = 2.0;  // FitToEdgesNear's distance for each refit
 }  // namespace
 
 bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim,
@@ -37,12 +33,7 @@ bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch
     // The band EdgePointsNear reads: the outline's length (at most 2 pi max(a, b)) times its width
     // (2 kBandPx + 2 px), never more than the frame.
     *scanned_pixels += static_cast<long>(std::min(frame, 2 * std::numbers::pi * std::max(g.a, g.b) * (2 * kBandPx + 2)));
-    const int n = EdgePointsNear(in, g, kBandPx, &scratch->x, &scratch->y);
-    if (n < kMinPoints) return false;
-    Arc points;  // RefineEllipse reads only the moments
-    points.moments = MomentsOfPoints(scratch->x.data(), scratch->y.data(), 0, n - 1, scratch->x[0], scratch->y[0]);
-    const Arc* group[1] = {&points};
-    if (!RefineEllipse(group, 1, &g)) return false;
+    if (!FitToEdgesNear(in, kBandPx, scratch, &g)) return false;
   }
   const double up = (g.cx - lid.cx) * ux + (g.cy - lid.cy) * uy;
   const double across = std::abs((g.cx - lid.cx) * c + (g.cy - lid.cy) * s);
