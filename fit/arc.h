@@ -30,7 +30,8 @@ void SetArcMoments(const Curves& curves, Arc* arc);
 struct Candidate {
   Ellipse ellipse;
   int arcs[3] = {-1, -1, -1};  // arc indices; the third is -1 for a pair
-  // Set by ClusterCandidates on a cluster reference: the outer rim chosen for it, if any.
+  // Set by ClusterCandidates on a cluster reference: the outer rim chosen for it, if any (its
+  // ellipse from then on); CompleteOuterRims sets them too when it finds the rim.
   bool has_rim = false;
   Ellipse rim;
   // Set by ClusterCandidates on a cluster reference: the member with the best FitShare so far

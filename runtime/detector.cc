@@ -198,7 +198,6 @@ void Detector::Impl::Resize(int w, int h) {
   crowd_result.ellipses.reserve(ReserveFor(options.max_candidates));
   boxes.reserve(ReserveFor(options.max_candidates));
   dropped.reserve(ReserveFor(options.max_candidates));
-  is_rim.reserve(ReserveFor(options.max_candidates));
   claimed_near.reserve(2 * ReserveFor(options.max_candidates));
   groups.Reserve(w, h, options);
 }

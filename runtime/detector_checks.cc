@@ -43,9 +43,8 @@ constexpr int kMaxOverlapSectors = 4;
 // holds every outer rim neighbour j can have, grown by kContactPx (a cheap first test).
 class NeighbourContacts final : public RimContacts {
  public:
-  NeighbourContacts(const std::vector<Candidate>& candidates, int kept, const std::vector<std::uint8_t>& is_rim,
-                    const std::vector<Box>& reach, int self)
-      : c_(candidates), kept_(kept), is_rim_(is_rim), reach_(reach), self_(self) {}
+  NeighbourContacts(const std::vector<Candidate>& candidates, int kept, const std::vector<Box>& reach, int self)
+      : c_(candidates), kept_(kept), reach_(reach), self_(self) {}
 
   std::uint64_t Touching(const Ellipse& inner, double k) const override {
     const double c = std::cos(inner.theta), s = std::sin(inner.theta);
@@ -68,7 +67,7 @@ class NeighbourContacts final : public RimContacts {
       const Ellipse& o = c_[j].ellipse;
       // Centred inside this top (its other edges, a duplicate): the same object, not a neighbour.
       if (std::hypot(o.cx - inner.cx, o.cy - inner.cy) < 0.5 * inner.b) continue;
-      const double scale = is_rim_[j] ? 1 : k;
+      const double scale = c_[j].has_rim ? 1 : k;
       const double oc = std::cos(o.theta), os = std::sin(o.theta);
       // Reciprocal semi-axes of the neighbour's largest rim, grown, and of its own ellipse, shrunk.
       const double ra = 1 / (scale * o.a + kContactPx), rb = 1 / (scale * o.b + kContactPx);
@@ -89,7 +88,6 @@ class NeighbourContacts final : public RimContacts {
  private:
   const std::vector<Candidate>& c_;
   int kept_;
-  const std::vector<std::uint8_t>& is_rim_;
   const std::vector<Box>& reach_;
   int self_;
 };
@@ -102,12 +100,10 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
   if (!(options.rim_min_coverage <= 1)) return;
   const EdgeMapView in = EdgeView();
   long budget = 2L * width * height;
-  is_rim.assign(static_cast<std::size_t>(kept), 0);
   boxes.clear();
   for (int i = 0; i < kept; ++i) {
-    is_rim[i] = candidates[i].has_rim;
     Ellipse largest = candidates[i].ellipse;
-    if (!is_rim[i]) {
+    if (!candidates[i].has_rim) {
       largest.a *= kRimSearchMaxScale;
       largest.b *= kRimSearchMaxScale;
     }
@@ -122,7 +118,7 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     }
     Ellipse rim;
     long scanned = 0;
-    const NeighbourContacts contacts(candidates, kept, is_rim, boxes, i);
+    const NeighbourContacts contacts(candidates, kept, boxes, i);
     bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned, &contacts);
     budget -= scanned;
     // No concentric rim: a recessed lid's rim (fit/recessed_rim.h), when it runs into no other
@@ -140,8 +136,8 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     bool detected = false;
     for (int j = 0; j < kept && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
     if (!detected) {
-      c.ellipse = rim;
-      is_rim[i] = 1;
+      c.ellipse = c.rim = rim;
+      c.has_rim = true;
     }
   }
 }

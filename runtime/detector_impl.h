@@ -88,7 +88,6 @@ struct Detector::Impl {
   std::vector<std::pair<double, int>> by_coverage;
   std::vector<Box> boxes;  // per kept candidate: CompleteOuterRims' rim reach, then the claim reach
   std::vector<std::uint8_t> dropped;
-  std::vector<std::uint8_t> is_rim;  // CompleteOuterRims: candidate i is an outer rim already
   std::vector<std::uint8_t> claimed_near;  // coarse levels: which kept ellipses claimed their edges
   // Options::crowd_min_curve_points: the crowd pass runs the back end a second time on these
   // buffers (the first pass's curves, arcs and candidates are spent once its ellipses are out).
