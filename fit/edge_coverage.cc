@@ -22,6 +22,13 @@ constexpr double kFineDistance = 1.0;  // px, FineEdgeCoverage's band either sid
 // apart that it replaced reached (measured: 2.5 px let in 3 more false detections on crowded seed 1
 // and 2 on hard seed 2).
 constexpr double kClaimDistance = 3.0;
+// StripedShare: an outline sample is backed when the gradient along its normal within 1 px
+// reaches kStripeMinGradient (L1 Sobel units: a step of 2 grey levels after the blur); it lies in
+// a stripe pattern when, on both sides, 2-5 px away, the gradient along the normal turns to the
+// opposite sign at kStripeRelative or more of the outline's own.
+constexpr int kStripeMinGradient = 8;
+constexpr int kStripeNear = 2, kStripeFar = 5;  // px along the normal
+constexpr double kStripeRelative = 0.4;
 
 // (cos t, sin t) of the 256 sample angles, computed once.
 const std::array<std::array<double, 2>, kSamples>& UnitSamples() {
@@ -226,6 +233,47 @@ int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, std
     }
   });
   return static_cast<int>(xs->size());
+}
+
+double StripedShare(const EdgeMapView& in, const Ellipse& e, double to_exceed) {
+  const Outline outline(e);
+  int backed = 0, striped = 0;
+  for (int i = 0; i < kFineSamples; ++i) {
+    // Even if every sample left were backed and striped, the share could not exceed to_exceed.
+    if ((striped + kFineSamples - i) * (1 - to_exceed) <= to_exceed * (backed - striped)) break;
+    const Outline::Sample p = outline.At(i * (kSamples / kFineSamples) + kSamples / kFineSamples / 2);
+    const double norm = std::hypot(p.nx, p.ny);
+    const double ux = p.nx / norm, uy = p.ny / norm;
+    // The gradient along the unit normal at t px out (in when t < 0); outside the frame: none.
+    auto along = [&](int t, bool* inside) {
+      const int x = RoundToInt(p.px + t * ux), y = RoundToInt(p.py + t * uy);
+      *inside = x >= 0 && y >= 0 && x < in.width && y < in.height;
+      if (!*inside) return 0.0;
+      const std::ptrdiff_t k = y * in.grad_stride + x;
+      return in.dx[k] * ux + in.dy[k] * uy;
+    };
+    double g0 = 0;
+    bool all_inside = true;
+    for (int t = -1; t <= 1; ++t) {
+      bool inside;
+      const double g = along(t, &inside);
+      all_inside = all_inside && inside;
+      if (std::abs(g) > std::abs(g0)) g0 = g;
+    }
+    if (!all_inside || std::abs(g0) < kStripeMinGradient) continue;
+    ++backed;
+    // Signed so that the outline's own edge is positive: a stripe's edges are negative.
+    const double sign = g0 > 0 ? 1 : -1, opposite = -kStripeRelative * std::abs(g0);
+    auto opposite_edge = [&](int side) {  // +1 out, -1 in
+      for (int t = kStripeNear; t <= kStripeFar; ++t) {
+        bool inside;
+        if (sign * along(side * t, &inside) <= opposite) return true;
+      }
+      return false;
+    };
+    striped += opposite_edge(1) && opposite_edge(-1);
+  }
+  return backed == 0 ? 0 : static_cast<double>(striped) / backed;
 }
 
 }  // namespace ellipsekit

@@ -12,6 +12,9 @@
 //                     shared datasets, +-1 detection, at a quarter of the cost).
 //   EdgeClaims        edge pixels already explained by an accepted ellipse: EdgeCoverage can
 //                     leave them out, so a second ellipse must stand on edges of its own.
+//   StripedShare      whether the outline is one edge or one stripe of a pattern of them (the
+//                     growth rings of a wooden top, a grooved or ribbed surface): the share of
+//                     its backed samples with opposite-signed edges close on both sides.
 #pragma once
 
 #include <cstdint>
@@ -60,5 +63,14 @@ double FineEdgeCoverage(const EdgeMapView& in, const Ellipse& e, double to_beat 
 // reserves, EdgeRefitScratch::Reserve). Work: the pixels of a band 2 distance + 2 px wide.
 int EdgePointsNear(const EdgeMapView& in, const Ellipse& e, double distance, std::vector<std::int32_t>* xs,
                    std::vector<std::int32_t>* ys);
+
+// In [0, 1]: of the 64 samples FineEdgeCoverage takes (one mid-sector each) whose gradient along
+// the outline's normal, within 1 px, reaches 8 (L1 Sobel units), the share whose gradient along
+// that normal turns to the opposite sign, at >= 0.4 of it, both 2-5 px outside and 2-5 px inside
+// (a stripe among stripes; a rim, a lip or a ring band has such an edge on one side only). 0 when
+// no sample is backed. With to_exceed >= 0 it stops once the share cannot exceed to_exceed and
+// returns a value <= to_exceed then (a rim is known after ~10 samples). Work: <= 64 x 11 gradient
+// reads.
+double StripedShare(const EdgeMapView& in, const Ellipse& e, double to_exceed = -1);
 
 }  // namespace ellipsekit

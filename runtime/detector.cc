@@ -75,6 +75,8 @@ Status ValidateOptions(const Options& o) {
     return Invalid("frame_cut_min_inside must be in [0, 1] (1: off)");
   if (!Finite(o.min_exclusive_coverage) || o.min_exclusive_coverage < 0 || o.min_exclusive_coverage > 1)
     return Invalid("min_exclusive_coverage must be in [0, 1]");
+  if (!Finite(o.max_striped_share) || o.max_striped_share < 0 || o.max_striped_share > 1)
+    return Invalid("max_striped_share must be in [0, 1] (1: off)");
   if (!Finite(o.pair_min_edge_coverage) || o.pair_min_edge_coverage < 0 || o.pair_min_edge_coverage > 1)
     return Invalid("pair_min_edge_coverage must be in [0, 1]");
   if (!Finite(o.min_axis_ratio) || o.min_axis_ratio < 0 || o.min_axis_ratio > 1)
@@ -289,12 +291,13 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   const auto t4 = Clock::now();
 
   // Clustering (sec. II-D-3) of the candidates with edge coverage (our addition,
-  // fit/edge_coverage.h), then the outer rims, the exclusive edge support and the refit to the
-  // edges (fit/edge_refit.h).
+  // fit/edge_coverage.h), then the outer rims, the exclusive edge support, the stripe test and
+  // the refit to the edges (fit/edge_refit.h).
   const CoverageCheck check(EdgeView(), options);
   int kept = ClusterCandidates(&candidates, options, &check, &cluster_scratch);
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);
+  kept = DropStriped(kept);
   if (options.refit_to_edges) {
     for (int i = 0; i < kept; ++i) RefitToEdges(EdgeView(), &candidates[i].ellipse, &refit_scratch);
   }

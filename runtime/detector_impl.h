@@ -126,6 +126,7 @@ struct Detector::Impl {
   } front;
   void CompleteOuterRims(int kept, GroupStats* stats);  // detector_checks.cc
   int KeepExclusivelySupported(int kept);              // detector_checks.cc
+  int DropStriped(int kept);                           // detector_checks.cc
   void AddCrowdPass(DetectionResult* result);  // detector_crowd.cc
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
