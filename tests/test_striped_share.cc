@@ -22,15 +22,7 @@ using ellipsekit::Ellipse;
 constexpr int kW = 240, kH = 200;
 constexpr double kCx = 121.3, kCy = 98.6, kTheta = 0.4;
 
-Ellipse At(double a, double b) {
-  Ellipse e;
-  e.cx = kCx;
-  e.cy = kCy;
-  e.a = a;
-  e.b = b;
-  e.theta = kTheta;
-  return e;
-}
+Ellipse At(double a, double b) { return Ellipse{kCx, kCy, a, b, kTheta}; }
 
 // Filled ellipse (a, b) at the test centre, drawn 16x sub-pixel.
 void Fill(cv::Mat* image, double a, double b, int grey) {
