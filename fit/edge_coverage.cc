@@ -243,13 +243,16 @@ double StripedShare(const EdgeMapView& in, const Ellipse& e, double to_exceed) {
     if ((striped + kFineSamples - i) * (1 - to_exceed) <= to_exceed * (backed - striped)) break;
     const Outline::Sample p = outline.At(i * (kSamples / kFineSamples) + kSamples / kFineSamples / 2);
     const double norm = std::hypot(p.nx, p.ny);
+    if (!(norm > 0)) continue;
     const double ux = p.nx / norm, uy = p.ny / norm;
     // The gradient along the unit normal at t px out (in when t < 0); outside the frame: none.
+    // Tested in doubles before rounding: an ellipse far outside the frame (or NaN) stays out.
     auto along = [&](int t, bool* inside) {
-      const int x = RoundToInt(p.px + t * ux), y = RoundToInt(p.py + t * uy);
-      *inside = x >= 0 && y >= 0 && x < in.width && y < in.height;
+      const double fx = p.px + t * ux, fy = p.py + t * uy;
+      *inside = fx >= -0.5 && fy >= -0.5 && fx < in.width - 0.5 && fy < in.height - 0.5;
       if (!*inside) return 0.0;
-      const std::ptrdiff_t k = y * in.grad_stride + x;
+      const int x = RoundToInt(fx), y = RoundToInt(fy);
+      const std::ptrdiff_t k = static_cast<std::ptrdiff_t>(y) * in.grad_stride + x;
       return in.dx[k] * ux + in.dy[k] * uy;
     };
     double g0 = 0;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -82,6 +83,15 @@ TEST(StripedShare, ARingBandOrAPlainStepIsNotAStripe) {
   // No gradient anywhere: nothing backed, share 0.
   const cv::Mat flat(kH, kW, CV_8UC1, cv::Scalar(90));
   EXPECT_EQ(ellipsekit::StripedShare(Gradients(flat).View(), At(60, 40)), 0);
+}
+
+TEST(StripedShare, FarOrDegenerateEllipsesReadNothing) {
+  const Gradients g(WoodenTop());
+  EXPECT_EQ(ellipsekit::StripedShare(g.View(), Ellipse{1e300, -1e300, 40, 30, 0.2}), 0);
+  EXPECT_EQ(ellipsekit::StripedShare(g.View(), Ellipse{kCx, kCy, 1e300, 1e300, 0.2}), 0);
+  EXPECT_EQ(ellipsekit::StripedShare(g.View(), Ellipse{kCx, kCy, 0, 0, 0}), 0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(ellipsekit::StripedShare(g.View(), Ellipse{nan, kCy, 40, 30, 0.2}), 0);
 }
 
 // True when e lies inside the wooden top, clearly smaller than it (a ring, not the top).
