@@ -77,6 +77,8 @@ Status ValidateOptions(const Options& o) {
     return Invalid("min_exclusive_coverage must be in [0, 1]");
   if (!Finite(o.max_striped_share) || o.max_striped_share < 0 || o.max_striped_share > 1)
     return Invalid("max_striped_share must be in [0, 1] (1: off)");
+  if (!Finite(o.max_nested_striped_share) || o.max_nested_striped_share < 0 || o.max_nested_striped_share > 1)
+    return Invalid("max_nested_striped_share must be in [0, 1] (1: off)");
   if (!Finite(o.pair_min_edge_coverage) || o.pair_min_edge_coverage < 0 || o.pair_min_edge_coverage > 1)
     return Invalid("pair_min_edge_coverage must be in [0, 1]");
   if (!Finite(o.min_axis_ratio) || o.min_axis_ratio < 0 || o.min_axis_ratio > 1)

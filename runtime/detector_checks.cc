@@ -28,6 +28,20 @@ const Options kNearlySameRule = [] {
 
 bool NearlySame(const Ellipse& v, const Ellipse& w) { return SameEllipse(v, w, kNearlySameRule); }
 
+// Whether candidates[i] lies inside another of candidates[0, kept): no larger than 0.95 of its a,
+// centred within half its semi-axes (a ring of a wooden top's grain, a lid inside its rim).
+bool NestedInAnother(const std::vector<Candidate>& candidates, int kept, int i) {
+  const Ellipse& e = candidates[i].ellipse;
+  for (int j = 0; j < kept; ++j) {
+    const Ellipse& o = candidates[j].ellipse;
+    if (j == i || !(e.a <= 0.95 * o.a) || !(std::abs(e.cx - o.cx) < o.a && std::abs(e.cy - o.cy) < o.a)) continue;
+    const double c = std::cos(o.theta), s = std::sin(o.theta), dx = e.cx - o.cx, dy = e.cy - o.cy;
+    const double u = (dx * c + dy * s) / o.a, v = (dy * c - dx * s) / o.b;
+    if (u * u + v * v < 0.25) return true;
+  }
+  return false;
+}
+
 // px: a rim point within this of a neighbour's outer rim (either side) lies against it. Points
 // deeper inside the neighbour's own ellipse mean the two overlap, which tops side by side on one
 // plane never do in the image (a plate on a plate, a lid in front of another): with more than
@@ -177,17 +191,18 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   return n;
 }
 
-// Options::max_striped_share: drops the kept ellipses that are one stripe of a pattern
-// (fit/edge_coverage.h StripedShare); keeps the survivors' order. Work: <= 64 x 11 gradient reads
-// each, ~10 x 7 for a plain rim.
+// Options::max_striped_share and max_nested_striped_share: drops the kept ellipses that are one
+// stripe of a pattern (fit/edge_coverage.h StripedShare), held to the nested share when inside
+// another kept ellipse; keeps the survivors' order. Work per ellipse: a pass over the kept ones (a
+// box test each, for most) and <= 64 x 11 gradient reads (~10 x 7 for a plain rim).
 int Detector::Impl::DropStriped(int kept) {
-  if (!(options.max_striped_share < 1)) return kept;
+  const double nested_limit = std::min(options.max_striped_share, options.max_nested_striped_share);
+  if (!(nested_limit < 1)) return kept;
   const EdgeMapView in = EdgeView();
   int n = 0;
   for (int i = 0; i < kept; ++i) {
-    if (StripedShare(in, candidates[i].ellipse, options.max_striped_share) <= options.max_striped_share) {
-      candidates[n++] = candidates[i];
-    }
+    const double limit = NestedInAnother(candidates, kept, i) ? nested_limit : options.max_striped_share;
+    if (!(limit < 1) || StripedShare(in, candidates[i].ellipse, limit) <= limit) candidates[n++] = candidates[i];
   }
   return n;
 }

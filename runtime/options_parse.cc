@@ -63,6 +63,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"frame_cut_min_inside", &Options::frame_cut_min_inside},
       {"min_exclusive_coverage", &Options::min_exclusive_coverage},
       {"max_striped_share", &Options::max_striped_share},
+      {"max_nested_striped_share", &Options::max_nested_striped_share},
       {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
       {"pair_reach", &Options::pair_reach},
       {"crowd_max_minor_axis", &Options::crowd_max_minor_axis},

@@ -112,6 +112,7 @@ TEST(DetectorErrors, EachInvalidOptionIsNamed) {
       {"min_exclusive_coverage", [](Options* o) { o->min_exclusive_coverage = 1.1; }},
       {"max_striped_share", [](Options* o) { o->max_striped_share = -0.1; }},
       {"max_striped_share", [&](Options* o) { o->max_striped_share = nan; }},
+      {"max_nested_striped_share", [](Options* o) { o->max_nested_striped_share = 1.5; }},
       {"pair_min_edge_coverage", [&](Options* o) { o->pair_min_edge_coverage = nan; }},
       {"min_axis_ratio", [](Options* o) { o->min_axis_ratio = -0.1; }},
       {"min_axis_ratio", [](Options* o) { o->min_axis_ratio = 2; }},
@@ -163,6 +164,8 @@ TEST(DetectorErrors, SetOption) {
   EXPECT_EQ(o.min_exclusive_coverage, 0.25);
   EXPECT_TRUE(SetOption("max_striped_share=1", &o).ok());
   EXPECT_EQ(o.max_striped_share, 1);
+  EXPECT_TRUE(SetOption("max_nested_striped_share=0.5", &o).ok());
+  EXPECT_EQ(o.max_nested_striped_share, 0.5);
   EXPECT_TRUE(SetOption("pair_min_edge_coverage=0.8", &o).ok());
   EXPECT_EQ(o.pair_min_edge_coverage, 0.8);
   EXPECT_TRUE(SetOption("min_axis_ratio=0", &o).ok());

@@ -1,8 +1,9 @@
 // The stripe test (fit/edge_coverage.h StripedShare, Options::max_striped_share) on drawn
 // images: an outline that is one boundary of a pattern of concentric bands (a wooden top's growth
 // rings) lies in stripes; the boundary of a plain top, of a ring band 4 px wide, or of the top
-// that holds the rings does not. End to end, the rule is what keeps the rings out of the
-// detections of a drawn wooden top.
+// that holds the rings does not. End to end, the rules (Options::max_striped_share, and
+// max_nested_striped_share for an ellipse inside another) keep the rings of a drawn wooden top
+// out of its detections.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -102,9 +103,10 @@ bool IsRing(const Ellipse& e) {
 TEST(StripedShare, TheRuleKeepsTheRingsOfAWoodenTopOut) {
   const cv::Mat image = WoodenTop();
   const ellipsekit::ImageView view{image.data, image.cols, image.rows, static_cast<std::ptrdiff_t>(image.step)};
-  auto rings_found = [&](double max_striped_share, bool* top_found) {
+  auto rings_found = [&](double max_striped_share, double max_nested_striped_share, bool* top_found) {
     ellipsekit::Options options;
     options.max_striped_share = max_striped_share;
+    options.max_nested_striped_share = max_nested_striped_share;
     ellipsekit::Detector detector(options);
     ellipsekit::DetectionResult result;
     EXPECT_TRUE(detector.detect(view, &result).ok());
@@ -116,12 +118,16 @@ TEST(StripedShare, TheRuleKeepsTheRingsOfAWoodenTopOut) {
     }
     return rings;
   };
-  bool top_found_without = false, top_found_with = false;
-  // Without the rule the detector reports rings (so the drawing is a fair test of the rule) ...
-  EXPECT_GE(rings_found(1.0, &top_found_without), 1);
-  // ... with it, none, and the top itself stays.
-  EXPECT_EQ(rings_found(ellipsekit::Options().max_striped_share, &top_found_with), 0);
+  const ellipsekit::Options defaults;
+  bool top_found_without = false, top_found_with = false, top_found_nested = false;
+  // Without the rules the detector reports rings (so the drawing is a fair test of them) ...
+  EXPECT_GE(rings_found(1.0, 1.0, &top_found_without), 1);
+  // ... with them, none, and the top itself stays; the rings lie inside the detected top, so the
+  // rule for nested ellipses alone removes them too.
+  EXPECT_EQ(rings_found(defaults.max_striped_share, defaults.max_nested_striped_share, &top_found_with), 0);
   EXPECT_TRUE(top_found_with);
+  EXPECT_EQ(rings_found(1.0, defaults.max_nested_striped_share, &top_found_nested), 0);
+  EXPECT_TRUE(top_found_nested);
 }
 
 }  // namespace

@@ -62,6 +62,7 @@ class Detector:
         min_edge_coverage: float = ...,
         min_exclusive_coverage: float = ...,
         max_striped_share: float = ...,
+        max_nested_striped_share: float = ...,
         cluster_pick_best_fit: bool = ...,
         refit_to_edges: bool = ...,
         refine_fit: bool = ...,
