@@ -23,6 +23,7 @@
 #include "tools/eval/breakdown.h"
 #include "tools/eval/dataset.h"
 #include "tools/eval/ellipse_io.h"
+#include "tools/eval/errors.h"
 #include "tools/eval/metrics.h"
 #include "tools/eval/pr_curve.h"
 
@@ -37,7 +38,9 @@ const char kEvalUsage[] =
     "matched at most once (maximum matching). Counts are summed over the dataset, then\n"
     "precision = correct/detected (1 when nothing detected), recall = correct/truth (1 when no\n"
     "truth), F = 2PR/(P+R) (0 when P+R = 0). Time: median wall time of detect() over the images,\n"
-    "after one untimed warm-up detection on the first image.\n"
+    "after one untimed warm-up detection on the first image. The errors: each missed truth\n"
+    "ellipse is a near miss when some detection overlaps it by 0.5-0.8 (the right object, the\n"
+    "wrong ellipse), and each false detection likewise when it overlaps a truth by 0.5-0.8.\n"
     "\n"
     "Options:\n"
     "  --backend B       auto (default), scalar, simd or vulkan\n"
@@ -56,7 +59,9 @@ const char kEvalUsage[] =
     "  --by LIST         also print recall per group: kind, size (semi-minor < 15, 15-30, >= 30 px),\n"
     "                    visibility (< 60 %, >= 60 % of the rim), a comma-separated list or 'all';\n"
     "                    kind and visibility read DIR/meta/<stem>.txt (tools/eval/breakdown.h)\n"
-    "  --json FILE       also write everything as JSON to FILE\n"
+    "  --json FILE       also write everything as JSON to FILE, per image with the missed truth\n"
+    "                    ellipses and the false detections, each with the index and overlap of\n"
+    "                    the ellipse on the other side that overlaps it most (-1 and 0: none)\n"
     "  -h, --help        this text\n"
     "A progress bar goes to stderr when stdout is a terminal.\n";
 
@@ -77,8 +82,28 @@ struct EvalArgs {
 struct ImageScore {
   std::string stem, path;
   eval::MatchCounts counts;
+  eval::ImageErrors errors;
+  std::vector<Ellipse> truth, detections;  // kept for --json only
   double ms = 0;
 };
+
+// --json: each unmatched ellipse (`own` names its side; a detection's score too) with the other side's ellipse that overlaps
+// it most (`other`: its index, -1 when none does).
+std::string UnmatchedJson(const std::vector<eval::UnmatchedEllipse>& list, const std::vector<Ellipse>& ellipses,
+                          const char* own, const char* other) {
+  std::string j = "[";
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const eval::UnmatchedEllipse& u = list[k];
+    const Ellipse& e = ellipses[static_cast<std::size_t>(u.index)];
+    j += (k ? ", " : "");
+    j += "{\"" + std::string(own) + "\": " + std::to_string(u.index) + ", \"cx\": " + JsonNumber(e.cx, 4) +
+         ", \"cy\": " + JsonNumber(e.cy, 4) + ", \"a\": " + JsonNumber(e.a, 4) + ", \"b\": " + JsonNumber(e.b, 4) +
+         ", \"theta\": " + JsonNumber(e.theta) +
+         (std::string(own) == "detection" ? ", \"score\": " + JsonNumber(e.score) : std::string()) + ", \"" + other + "\": " + std::to_string(u.nearest) +
+         ", \"best_overlap\": " + JsonNumber(u.best_overlap, 4) + "}";
+  }
+  return j + "]";
+}
 
 EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
   EvalArgs a;
@@ -226,6 +251,7 @@ int RunEval(const std::vector<std::string>& argv) {
   std::vector<ImageScore> scores;
   std::vector<eval::ScoredDetection> scored;  // --curve
   eval::MatchCounts total;
+  eval::ErrorCounts errors;
   eval::RecallBreakdown breakdown(args.by);  // --by
   DetectionResult result;
   for (std::size_t i = 0; i < dataset.images.size(); ++i) {
@@ -252,7 +278,12 @@ int RunEval(const std::vector<std::string>& argv) {
           const eval::MatchResult match = eval::MatchEllipses(
               result.ellipses, truth, eval::kOverlapThreshold,
               boxes == dataset.dont_care.end() ? std::vector<eval::BoundingBox>{} : boxes->second);
-          scores.push_back({item.stem, item.image_path, match.counts, ms});
+          scores.push_back({item.stem, item.image_path, match.counts, eval::ClassifyErrors(result.ellipses, truth, match), {}, {}, ms});
+          errors += eval::CountErrors(scores.back().errors);
+          if (!args.json_path.empty()) {
+            scores.back().truth = truth;
+            scores.back().detections = result.ellipses;
+          }
           for (std::size_t d = 0; d < result.ellipses.size(); ++d) {
             if (d < match.detection_ignored.size() && match.detection_ignored[d]) continue;
             scored.push_back({result.ellipses[d].score, match.truth_of_detection[d] >= 0});
@@ -301,6 +332,10 @@ int RunEval(const std::vector<std::string>& argv) {
   std::printf("precision: %.4f\n", precision);
   std::printf("recall: %.4f\n", recall);
   std::printf("F-measure: %.4f\n", f);
+  std::printf("missed: %d (near misses, a detection overlaps by %.1f-%.1f: %d)\n", errors.missed,
+              eval::kNearMissOverlap, eval::kOverlapThreshold, errors.missed_near);
+  std::printf("false: %d (overlapping a truth by %.1f-%.1f: %d)\n", errors.false_detections, eval::kNearMissOverlap,
+              eval::kOverlapThreshold, errors.false_near);
   std::printf("median detect ms: %.3f\n", median_ms);
   if (!args.by.empty()) std::fputs(breakdown.Format().c_str(), stdout);
   if (!args.curve_path.empty()) {
@@ -324,14 +359,19 @@ int RunEval(const std::vector<std::string>& argv) {
       j += "{\"stem\": " + JsonString(s.stem) + ", \"path\": " + JsonString(s.path) +
            ", \"truth\": " + std::to_string(s.counts.truth) + ", \"detected\": " +
            std::to_string(s.counts.detected) + ", \"correct\": " + std::to_string(s.counts.correct) +
-           ", \"ms\": " + JsonNumber(s.ms, 4) + "}";
+           ", \"ms\": " + JsonNumber(s.ms, 4) + ",\n     \"missed\": " +
+           UnmatchedJson(s.errors.missed, s.truth, "truth", "detection") + ",\n     \"false\": " +
+           UnmatchedJson(s.errors.false_detections, s.detections, "detection", "truth") + "}";
     }
     j += scores.empty() ? "],\n" : "\n  ],\n";
     j += "  \"totals\": {\"images\": " + std::to_string(scores.size()) + ", \"truth\": " +
          std::to_string(total.truth) + ", \"detected\": " + std::to_string(total.detected) +
          ", \"correct\": " + std::to_string(total.correct) + ", \"precision\": " +
          JsonNumber(precision) + ", \"recall\": " + JsonNumber(recall) + ", \"f_measure\": " +
-         JsonNumber(f) + ", \"median_ms\": " + JsonNumber(median_ms, 4) + "},\n";
+         JsonNumber(f) + ", \"median_ms\": " + JsonNumber(median_ms, 4) + ", \"missed\": " +
+         std::to_string(errors.missed) + ", \"missed_near\": " + std::to_string(errors.missed_near) +
+         ", \"false\": " + std::to_string(errors.false_detections) + ", \"false_near\": " +
+         std::to_string(errors.false_near) + "},\n";
     j += "  \"failed\": " + std::string(failed ? "true" : "false") + "\n}\n";
     if (Status st = eval::WriteFileAtomically(args.json_path, j); !st.ok()) {
       std::fprintf(stderr, "ellipsekit eval: %s\n", st.message().c_str());
