@@ -33,6 +33,7 @@ struct Candidate {
   // Set by ClusterCandidates on a cluster reference: the outer rim chosen for it, if any (its
   // ellipse from then on); CompleteOuterRims sets them too when it finds the rim.
   bool has_rim = false;
+  bool rim_recessed = false;  // the rim is a recessed lid's (fit/recessed_rim.h), not concentric
   Ellipse rim;
   // Set by ClusterCandidates on a cluster reference: the member with the best FitShare so far
   // (the share -1 until a first member is tried: a lone reference is never measured), and how

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "fit/recessed_rim.h"
+
 namespace ellipsekit {
 
 namespace {
@@ -13,8 +15,13 @@ double OrientationDifference(double t1, double t2) {
   return std::min(d, std::numbers::pi - d);
 }
 
+// b / a above this: nearly a circle, whose orientation means little.
+constexpr double kRoundAxisRatio = 0.9;
+
 // Both nearly circles: their orientations mean little and are not compared.
-bool BothNearlyRound(const Ellipse& v, const Ellipse& w) { return v.b > 0.9 * v.a && w.b > 0.9 * w.a; }
+bool BothNearlyRound(const Ellipse& v, const Ellipse& w) {
+  return v.b > kRoundAxisRatio * v.a && w.b > kRoundAxisRatio * w.a;
+}
 
 // Members of a cluster tried as its representative (Options::cluster_pick_best_fit), best score
 // first. Measured F on 200 generated scenes, seeds 7 / 11 / 23, tries 4 / 6 / 8 / all: 0.900 /
@@ -127,6 +134,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
       c[kept] = c[i];
       grid.Add(static_cast<int>(kept), c[i].ellipse);
       c[kept].has_rim = false;
+      c[kept].rim_recessed = false;
       c[kept].best_fit = c[i].ellipse;
       c[kept].best_fit_share = -1;  // measured when a first member is tried (most clusters have none)
       c[kept].fit_tries = 0;
@@ -135,10 +143,16 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     }
     Candidate& ref = c[k];
     const bool outer = IsOuterRim(c[i].ellipse, ref.ellipse);
+    // Options::cluster_recessed_rims: a member where a recessed lid's rim lies around the reference
+    // (fit/recessed_rim.h; seen at an angle, so not for a nearly round reference, whose minor axis
+    // says nothing of which way is up) is its rim too, until a concentric outer rim is found.
+    const bool recessed = options.cluster_recessed_rims && !outer && ref.ellipse.b < kRoundAxisRatio * ref.ellipse.a &&
+                          IsRecessedRimOf(c[i].ellipse, ref.ellipse);
     // The best-scoring outer rim of the reference within the margin (members arrive best first).
-    if (outer && !ref.has_rim && c[i].ellipse.score >= ref.ellipse.score - options.cluster_outer_margin &&
-        passes(c[i])) {
+    if ((outer || recessed) && (!ref.has_rim || (outer && ref.rim_recessed)) &&
+        c[i].ellipse.score >= ref.ellipse.score - options.cluster_outer_margin && passes(c[i])) {
       ref.has_rim = true;
+      ref.rim_recessed = recessed;
       ref.rim = c[i].ellipse;
     }
     // A member that fits the edges more tightly than the representative so far; rims of the
@@ -158,6 +172,8 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     }
   }
   for (std::size_t k = 0; k < kept; ++k) {
+    // A member larger than the recessed rim that fits the edges best is the rim itself.
+    if (c[k].has_rim && c[k].rim_recessed && c[k].best_fit.a > c[k].rim.a) c[k].has_rim = false;
     if (c[k].has_rim) {
       c[k].ellipse = c[k].rim;
     } else {

@@ -13,6 +13,20 @@ constexpr int kRefits = 3;
 constexpr double kBandPx = 2.0;  // FitToEdgesNear's distance for each refit
 }  // namespace
 
+bool IsRecessedRimOf(const Ellipse& rim, const Ellipse& lid) {
+  const double c = std::cos(lid.theta), s = std::sin(lid.theta);
+  double ux = -s, uy = c;  // the minor axis, pointing up in the image (y down)
+  if (uy > 0) {
+    ux = -ux;
+    uy = -uy;
+  }
+  const double up = (rim.cx - lid.cx) * ux + (rim.cy - lid.cy) * uy;
+  const double across = std::abs((rim.cx - lid.cx) * c + (rim.cy - lid.cy) * s);
+  const double ka = rim.a / lid.a, kb = rim.b / lid.b;
+  return up >= -0.05 * lid.b && up <= 0.35 * lid.b && across <= 0.15 * lid.b && ka >= 1.03 && ka <= 1.4 &&
+         kb >= 1.05 && kb <= 1.55 && kb >= ka - 0.02;
+}
+
 bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim,
                      long* scanned_pixels) {
   *scanned_pixels = 0;
@@ -35,11 +49,7 @@ bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch
     *scanned_pixels += static_cast<long>(std::min(frame, 2 * std::numbers::pi * std::max(g.a, g.b) * (2 * kBandPx + 2)));
     if (!FitToEdgesNear(in, kBandPx, scratch, &g)) return false;
   }
-  const double up = (g.cx - lid.cx) * ux + (g.cy - lid.cy) * uy;
-  const double across = std::abs((g.cx - lid.cx) * c + (g.cy - lid.cy) * s);
-  const double ka = g.a / lid.a, kb = g.b / lid.b;
-  if (!(up >= -0.05 * lid.b && up <= 0.35 * lid.b && across <= 0.15 * lid.b)) return false;
-  if (!(ka >= 1.03 && ka <= 1.4 && kb >= 1.05 && kb <= 1.55 && kb >= ka - 0.02)) return false;
+  if (!IsRecessedRimOf(g, lid)) return false;
   if (FineEdgeCoverage(in, g, kRecessedRimMinShare) < kRecessedRimMinShare) return false;
   *rim = g;
   rim->score = lid.score;

@@ -23,6 +23,9 @@ inline constexpr double kRecessedRimUp = 0.15;
 // than the lid (b / b_lid >= a / a_lid - 0.02), centre within 0.35 b up (0.05 b down) and 0.15 b
 // across the minor axis, and FineEdgeCoverage >= kRecessedRimMinShare.
 inline constexpr double kRecessedRimMinShare = 0.85;
+// The geometry above: `rim` is where a recessed lid's rim lies around `lid`.
+bool IsRecessedRimOf(const Ellipse& rim, const Ellipse& lid);
+
 // The starting guess must be backed this much (FineEdgeCoverage) before any refit: a cheap test
 // that most detections (no recessed lid) fail. Measured (`ellipsekit eval`, correct detections):
 // 0 / 0.3 / 0.5 gives hard tabletop seed 1 672 / 670 / 669 (660 without the search), seed 2 686 /

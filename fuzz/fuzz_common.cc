@@ -74,7 +74,11 @@ void EditOptionMore(int field, int v, Options* o) {
     case 2: o->min_exclusive_coverage = p; break;
     case 3: o->min_axis_ratio = p; break;
     case 4: o->rim_min_coverage = p; break;  // > 1 turns the outer-rim search off
-    case 5: o->cluster_pick_best_fit = (v & 1) != 0; o->refit_to_edges = (v & 2) != 0; break;
+    case 5:
+      o->cluster_pick_best_fit = (v & 1) != 0;
+      o->refit_to_edges = (v & 2) != 0;
+      o->cluster_recessed_rims = (v & 4) != 0;
+      break;
     case 6: o->refined_circumference_ratio = p; break;
     case 7: o->cluster_rule = static_cast<ClusterRule>(v & 3); break;
     case 8: o->inlier_rule = static_cast<InlierRule>(v & 3); break;

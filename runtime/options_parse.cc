@@ -92,6 +92,7 @@ Status SetOption(const std::string& assignment, Options* o) {
   static const BoolField bools[] = {
       {"gaussian_blur", &Options::gaussian_blur}, {"refine_fit", &Options::refine_fit},
       {"pair_candidates", &Options::pair_candidates}, {"cluster_pick_best_fit", &Options::cluster_pick_best_fit},
+      {"cluster_recessed_rims", &Options::cluster_recessed_rims},
       {"refit_to_edges", &Options::refit_to_edges}, {"retire_found_arcs", &Options::retire_found_arcs},
   };
   for (const BoolField& f : bools) {

@@ -17,6 +17,7 @@
 #include "fit/conic_refine.h"
 #include "fit/parameters.h"
 #include "fit/point_moments.h"
+#include "fit/recessed_rim.h"
 #include "fit/validation.h"
 #include "kernels/arc_types.h"
 #include "tests/ellipse_test_util.h"
@@ -423,6 +424,47 @@ TEST(FitClustering, OuterRimRepresentsItsNestedLip) {
   c[1].ellipse = lip;
   ASSERT_EQ(ClusterCandidates(&c, o), 1);
   EXPECT_DOUBLE_EQ(c[0].ellipse.a, lip.a);
+}
+
+// Options::cluster_recessed_rims: a can seen at an angle, its recessed lid (best score, and the
+// edges back it most tightly) and the rim around it, 1.17x along a, 1.25x along b, centred 0.15 b
+// higher (fit/recessed_rim.h), in one cluster: the rim represents it.
+TEST(FitClustering, RecessedRimRepresentsItsLid) {
+  const Ellipse lid = Make(200, 150, 40, 25, 0.0, 2.0);
+  const Ellipse rim = Make(200, 146.25, 46.8, 31.25, 0.0, 1.9);  // y down: 3.75 px is up
+  EXPECT_TRUE(IsRecessedRimOf(rim, lid));
+  EXPECT_FALSE(IsOuterRim(rim, lid));
+  struct PreferLid final : CandidateCheck {
+    bool Passes(const Candidate&) const override { return true; }
+    double FitShare(const Candidate& c, double) const override { return c.ellipse.a == 40 ? 1.0 : 0.85; }
+  };
+  const PreferLid check;
+  auto representative = [&](const std::vector<Ellipse>& members, const Options& o) {
+    std::vector<Candidate> c(members.size());
+    for (std::size_t i = 0; i < members.size(); ++i) c[i].ellipse = members[i];
+    EXPECT_EQ(ClusterCandidates(&c, o, &check), 1);
+    return c[0].ellipse;
+  };
+  Options o;
+  EXPECT_DOUBLE_EQ(representative({lid, rim}, o).a, rim.a);
+  o.cluster_recessed_rims = false;
+  EXPECT_DOUBLE_EQ(representative({lid, rim}, o).a, lid.a) << "without the rule the tighter fit wins";
+  o.cluster_recessed_rims = true;
+
+  // The same ellipse centred lower (a jar's shoulder below its lid), or around a nearly round lid
+  // (seen from above: no way is up), is not a recessed rim.
+  const Ellipse below = Make(200, 153.75, 46.8, 31.25, 0.0, 1.9);
+  EXPECT_FALSE(IsRecessedRimOf(below, lid));
+  EXPECT_DOUBLE_EQ(representative({lid, below}, o).a, lid.a);
+  const Ellipse round_lid = Make(200, 150, 40, 37, 0.0, 2.0);
+  const Ellipse round_rim = Make(200, 145.4, 46.8, 46, 0.0, 1.9);
+  EXPECT_TRUE(IsRecessedRimOf(round_rim, round_lid));
+  EXPECT_DOUBLE_EQ(representative({round_lid, round_rim}, o).a, round_lid.a);
+
+  // A concentric outer rim, though it scores lower than the recessed one, takes precedence.
+  const Ellipse concentric = Make(200, 150, 46, 28.75, 0.0, 1.8);
+  ASSERT_TRUE(IsOuterRim(concentric, lid));
+  EXPECT_DOUBLE_EQ(representative({lid, rim, concentric}, o).a, concentric.a);
 }
 
 TEST(FitClustering, RelativeRule) {

@@ -64,6 +64,7 @@ class Detector:
         max_striped_share: float = ...,
         max_nested_striped_share: float = ...,
         cluster_pick_best_fit: bool = ...,
+        cluster_recessed_rims: bool = ...,
         refit_to_edges: bool = ...,
         refine_fit: bool = ...,
         refined_circumference_ratio: float = ...,
