@@ -11,13 +11,12 @@
 namespace ellipsekit::eval {
 namespace {
 
-Ellipse E(double cx, double cy, double a, double b) {
-  Ellipse e;
-  e.cx = cx;
-  e.cy = cy;
-  e.a = a;
-  e.b = b;
-  return e;
+Ellipse E(double cx, double cy, double a, double b) { return Ellipse{cx, cy, a, b, 0}; }
+
+void ExpectUnmatched(const UnmatchedEllipse& u, int index, int nearest, double overlap) {
+  EXPECT_EQ(u.index, index);
+  EXPECT_EQ(u.nearest, nearest);
+  EXPECT_NEAR(u.best_overlap, overlap, 1e-3);
 }
 
 TEST(ClassifyErrors, NearMissesAndEllipsesOnNothing) {
@@ -30,19 +29,11 @@ TEST(ClassifyErrors, NearMissesAndEllipsesOnNothing) {
   const ImageErrors errors = ClassifyErrors(dets, truth, match);
 
   ASSERT_EQ(errors.missed.size(), 2u);
-  EXPECT_EQ(errors.missed[0].index, 1);
-  EXPECT_EQ(errors.missed[0].nearest, 1);
-  EXPECT_NEAR(errors.missed[0].best_overlap, 0.7, 1e-3);
-  EXPECT_EQ(errors.missed[1].index, 2);
-  EXPECT_EQ(errors.missed[1].nearest, -1);
-  EXPECT_EQ(errors.missed[1].best_overlap, 0);
-
+  ExpectUnmatched(errors.missed[0], 1, 1, 0.7);
+  ExpectUnmatched(errors.missed[1], 2, -1, 0);
   ASSERT_EQ(errors.false_detections.size(), 2u);
-  EXPECT_EQ(errors.false_detections[0].index, 1);
-  EXPECT_EQ(errors.false_detections[0].nearest, 1);
-  EXPECT_NEAR(errors.false_detections[0].best_overlap, 0.7, 1e-3);
-  EXPECT_EQ(errors.false_detections[1].index, 2);
-  EXPECT_EQ(errors.false_detections[1].nearest, -1);
+  ExpectUnmatched(errors.false_detections[0], 1, 1, 0.7);
+  ExpectUnmatched(errors.false_detections[1], 2, -1, 0);
 
   ErrorCounts total = CountErrors(errors);
   EXPECT_EQ(total.missed, 2);
