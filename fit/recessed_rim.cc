@@ -11,15 +11,23 @@ namespace ellipsekit {
 namespace {
 constexpr int kRefits = 3;
 constexpr double kBandPx = 2.0;  // FitToEdgesNear's distance for each refit
+
+// The unit minor axis of an ellipse turned by (c, s) = (cos theta, sin theta), pointing up in the
+// image (y down).
+void MinorAxisUp(double c, double s, double* ux, double* uy) {
+  *ux = -s;
+  *uy = c;
+  if (*uy > 0) {
+    *ux = -*ux;
+    *uy = -*uy;
+  }
+}
 }  // namespace
 
 bool IsRecessedRimOf(const Ellipse& rim, const Ellipse& lid) {
   const double c = std::cos(lid.theta), s = std::sin(lid.theta);
-  double ux = -s, uy = c;  // the minor axis, pointing up in the image (y down)
-  if (uy > 0) {
-    ux = -ux;
-    uy = -uy;
-  }
+  double ux, uy;
+  MinorAxisUp(c, s, &ux, &uy);
   const double up = (rim.cx - lid.cx) * ux + (rim.cy - lid.cy) * uy;
   const double across = std::abs((rim.cx - lid.cx) * c + (rim.cy - lid.cy) * s);
   const double ka = rim.a / lid.a, kb = rim.b / lid.b;
@@ -30,12 +38,8 @@ bool IsRecessedRimOf(const Ellipse& rim, const Ellipse& lid) {
 bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch* scratch, Ellipse* rim,
                      long* scanned_pixels) {
   *scanned_pixels = 0;
-  const double c = std::cos(lid.theta), s = std::sin(lid.theta);
-  double ux = -s, uy = c;  // the minor axis, pointing up in the image (y down)
-  if (uy > 0) {
-    ux = -ux;
-    uy = -uy;
-  }
+  double ux, uy;
+  MinorAxisUp(std::cos(lid.theta), std::sin(lid.theta), &ux, &uy);
   Ellipse g = lid;
   g.cx += kRecessedRimUp * lid.b * ux;
   g.cy += kRecessedRimUp * lid.b * uy;

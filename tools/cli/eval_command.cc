@@ -87,10 +87,10 @@ struct ImageScore {
   double ms = 0;
 };
 
-// --json: each unmatched ellipse (`own` names its side; a detection's score too) with the other side's ellipse that overlaps
-// it most (`other`: its index, -1 when none does).
+// --json: each unmatched ellipse (`own` names its side; with_score: a detection's score too) with
+// the other side's ellipse that overlaps it most (`other`: its index, -1 when none does).
 std::string UnmatchedJson(const std::vector<eval::UnmatchedEllipse>& list, const std::vector<Ellipse>& ellipses,
-                          const char* own, const char* other) {
+                          const char* own, const char* other, bool with_score) {
   std::string j = "[";
   for (std::size_t k = 0; k < list.size(); ++k) {
     const eval::UnmatchedEllipse& u = list[k];
@@ -98,9 +98,10 @@ std::string UnmatchedJson(const std::vector<eval::UnmatchedEllipse>& list, const
     j += (k ? ", " : "");
     j += "{\"" + std::string(own) + "\": " + std::to_string(u.index) + ", \"cx\": " + JsonNumber(e.cx, 4) +
          ", \"cy\": " + JsonNumber(e.cy, 4) + ", \"a\": " + JsonNumber(e.a, 4) + ", \"b\": " + JsonNumber(e.b, 4) +
-         ", \"theta\": " + JsonNumber(e.theta) +
-         (std::string(own) == "detection" ? ", \"score\": " + JsonNumber(e.score) : std::string()) + ", \"" + other + "\": " + std::to_string(u.nearest) +
-         ", \"best_overlap\": " + JsonNumber(u.best_overlap, 4) + "}";
+         ", \"theta\": " + JsonNumber(e.theta);
+    if (with_score) j += ", \"score\": " + JsonNumber(e.score);
+    j += ", \"" + std::string(other) + "\": " + std::to_string(u.nearest) + ", \"best_overlap\": " +
+         JsonNumber(u.best_overlap, 4) + "}";
   }
   return j + "]";
 }
@@ -360,8 +361,8 @@ int RunEval(const std::vector<std::string>& argv) {
            ", \"truth\": " + std::to_string(s.counts.truth) + ", \"detected\": " +
            std::to_string(s.counts.detected) + ", \"correct\": " + std::to_string(s.counts.correct) +
            ", \"ms\": " + JsonNumber(s.ms, 4) + ",\n     \"missed\": " +
-           UnmatchedJson(s.errors.missed, s.truth, "truth", "detection") + ",\n     \"false\": " +
-           UnmatchedJson(s.errors.false_detections, s.detections, "detection", "truth") + "}";
+           UnmatchedJson(s.errors.missed, s.truth, "truth", "detection", false) + ",\n     \"false\": " +
+           UnmatchedJson(s.errors.false_detections, s.detections, "detection", "truth", true) + "}";
     }
     j += scores.empty() ? "],\n" : "\n  ],\n";
     j += "  \"totals\": {\"images\": " + std::to_string(scores.size()) + ", \"truth\": " +

@@ -6,10 +6,6 @@ namespace ellipsekit::eval {
 
 namespace {
 
-bool BoxesMeet(const BoundingBox& p, const BoundingBox& q) {
-  return p.x0 <= q.x1 && q.x0 <= p.x1 && p.y0 <= q.y1 && q.y0 <= p.y1;
-}
-
 // For each unmatched, not ignored ellipse of `side`, the ellipse of `other` overlapping it most
 // (ties: the lower index).
 std::vector<UnmatchedEllipse> Unmatched(const std::vector<Ellipse>& side, const std::vector<int>& partner,
@@ -24,7 +20,7 @@ std::vector<UnmatchedEllipse> Unmatched(const std::vector<Ellipse>& side, const 
     u.index = static_cast<int>(i);
     const BoundingBox box = EllipseBounds(side[i]);
     for (std::size_t j = 0; j < other.size(); ++j) {
-      if (!BoxesMeet(box, other_boxes[j])) continue;
+      if (!box.Intersects(other_boxes[j])) continue;
       const double overlap = EllipseJaccard(side[i], other[j]);
       if (overlap > u.best_overlap) {
         u.best_overlap = overlap;

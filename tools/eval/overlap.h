@@ -30,6 +30,7 @@ double EllipseJaccard(const Ellipse& p, const Ellipse& q);
 // Axis-aligned bounding box of a filled ellipse.
 struct BoundingBox {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool Intersects(const BoundingBox& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
 };
 BoundingBox EllipseBounds(const Ellipse& e);
 
