@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,6 +17,24 @@
 namespace ellipsekit::bench {
 
 namespace ek = ellipsekit;
+
+namespace {
+std::vector<std::function<void()>>& Releases() {
+  static std::vector<std::function<void()>> releases;
+  return releases;
+}
+}  // namespace
+
+void AtBenchEnd(std::function<void()> release) { Releases().push_back(std::move(release)); }
+
+void ReleaseBenchResources() {
+  auto& r = Releases();
+  while (!r.empty()) {
+    std::function<void()> release = std::move(r.back());
+    r.pop_back();
+    release();
+  }
+}
 
 std::vector<std::filesystem::path> ImagesIn(const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> out;

@@ -1,12 +1,13 @@
 // Frames and helpers shared by the benchmark files: the shared datasets' images, the scalar
 // reference's edge-stage planes of a frame (inputs of the kernels, thresholds of the Canny
-// baselines), and throughput counters.
+// baselines), throughput counters, and the release of what the benchmarks keep across runs.
 #pragma once
 
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -15,6 +16,15 @@
 #include "kernels/canny_thresholds.h"
 
 namespace ellipsekit::bench {
+
+// Objects the benchmarks keep across runs in function-local statics (Detectors, Vulkan stages)
+// are released by main after the benchmarks, not by static destructors: NVIDIA's Vulkan driver
+// finalises itself in an exit handler of its own, and a vkDestroy* call after that crashes (an
+// H200 with driver 580.159: ellipsekit_bench ended with SIGSEGV after its last benchmark). A
+// cache registers its release when it is first filled; ReleaseBenchResources runs them, newest
+// first.
+void AtBenchEnd(std::function<void()> release);
+void ReleaseBenchResources();
 
 inline constexpr const char* kPrasadDir = "../shared/datasets/prasad_subset/images";
 inline constexpr const char* kSharedDatasetsDir = "../shared/datasets";

@@ -380,7 +380,10 @@ class ScopedTiming {
 #ifdef ELLIPSEKIT_HAVE_VULKAN
 ek::VulkanEdgeStage* VulkanStage(std::string* why) {
   static std::unique_ptr<ek::VulkanEdgeStage> stage;
-  static ek::Status status = ek::VulkanEdgeStage::Create(&stage);
+  static ek::Status status = [] {
+    AtBenchEnd([] { stage.reset(); });
+    return ek::VulkanEdgeStage::Create(&stage);
+  }();
   if (!status.ok()) *why = status.message();
   return status.ok() ? stage.get() : nullptr;
 }
@@ -480,7 +483,10 @@ void BM_ArcStage(benchmark::State& st, bool vulkan, bool timed, const std::strin
   } else {
 #ifdef ELLIPSEKIT_HAVE_VULKAN
     static std::unique_ptr<ek::VulkanArcStage> stage;
-    static const ek::Status created = ek::VulkanArcStage::Create(&stage);
+    static const ek::Status created = [] {
+      AtBenchEnd([] { stage.reset(); });
+      return ek::VulkanArcStage::Create(&stage);
+    }();
     if (!created.ok()) { st.SkipWithError(created.message().c_str()); return; }
     const ScopedTiming<ek::VulkanArcStage> timing(stage.get(), timed);
     ek::Status rs = stage->Run(in->curves, tol, tan_q16, o.min_curve_points, &polylines, &splits, &stats);
@@ -660,6 +666,7 @@ int main(int argc, char** argv) {
   ellipsekit::bench::RegisterMemoryBenchmarks();
   ellipsekit::bench::RegisterStreamBenchmarks();
   benchmark::RunSpecifiedBenchmarks();
+  ReleaseBenchResources();
   benchmark::Shutdown();
   return 0;
 }

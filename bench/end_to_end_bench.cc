@@ -34,6 +34,11 @@ constexpr int kNumScenes = 6;  // generated scenes benchmarked one by one (scene
 // benchmark sizes its buffers). Stage timings are averaged over the iterations as counters.
 ek::Detector* DetectorFor(ek::Backend b) {
   static std::map<int, std::unique_ptr<ek::Detector>> detectors;
+  static const bool registered = [] {
+    AtBenchEnd([] { detectors.clear(); });
+    return true;
+  }();
+  (void)registered;
   auto& d = detectors[static_cast<int>(b)];
   if (!d) {
     ek::Options o;

@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # run.sh of a bundle made by scripts/gpu-bundle.sh (this file is copied there as run.sh).
 #
-#   ./run.sh [--quick] [--conform-only] [--out FILE] [--loader auto|system|bundle]
+#   ./run.sh [--quick] [--conform-only] [--scenes N] [--out FILE] [--loader auto|system|bundle]
 #
 # Runs, with the bundle's libraries and the machine's Vulkan loader and GPU driver:
-#   ellipsekit conform --backends scalar,simd,vulkan on the bundled dataset images, then
-#   ellipsekit_bench: edge_stage/*, arc_stage/* and the end-to-end detect/(simd|vulkan)/* benchmarks
+#   ellipsekit conform --backends scalar,simd,vulkan on the bundled dataset images and on N
+#   generated scenes (ellipsekit scenes --seed 7), then
+#   ellipsekit_bench: edge_stage/*, arc_stage/*, the end-to-end detect/(simd|vulkan)/* and (not with
+#   --quick) the stream/(simd|vulkan)/scenes200/* benchmarks
 # and writes every figure, with vulkaninfo --summary, nvidia-smi (if present), the device and the
 # driver, into one results file (default: results/results.md in the bundle).
-#   --quick          benchmarks with --benchmark_min_time=0.01 and without scenes200 (the test's mode)
+#   --quick          benchmarks with --benchmark_min_time=0.01, without scenes200 and streams (the
+#                    test's mode)
+#   --scenes N       generated scenes to conform on (default 200; 0 with --quick)
 #   --conform-only   only the conformance run
 #   --loader L       auto (default): the machine's libvulkan.so.1, else the bundle's loader/;
 #                    system / bundle: that one only
@@ -20,11 +24,13 @@
 set -uo pipefail
 
 here=$(cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")" && pwd)
-quick=0 conform_only=0 out="" loader_mode=auto
+quick=0 conform_only=0 out="" loader_mode=auto scenes=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --quick) quick=1; shift ;;
     --conform-only) conform_only=1; shift ;;
+    --scenes) scenes=$2; shift 2 ;;
+    --scenes=*) scenes=${1#*=}; shift ;;
     --out) out=$2; shift 2 ;;
     --out=*) out=${1#*=}; shift ;;
     --loader) loader_mode=$2; shift 2 ;;
@@ -34,6 +40,8 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 case "$loader_mode" in auto|system|bundle) ;; *) echo "run.sh: --loader auto|system|bundle" >&2; exit 2 ;; esac
+[[ -n "$scenes" ]] || { [[ $quick == 1 ]] && scenes=0 || scenes=200; }
+[[ "$scenes" =~ ^[0-9]+$ ]] || { echo "run.sh: --scenes takes a count, got '$scenes'" >&2; exit 2; }
 [[ -n "$out" ]] || out=$here/results/results.md
 mkdir -p "$(dirname "$out")"
 out=$(cd "$(dirname "$out")" && pwd)/$(basename "$out")
@@ -122,26 +130,38 @@ say '```'
 
 cd "$here/work" || exit 1
 status=0
-say ""
-say "## Conformance: ellipsekit conform --backends scalar,simd,vulkan ../shared/datasets/*/images/*"
-say ""
-images=(../shared/datasets/*/images/*)
-bundled "$here/bin/ellipsekit" conform --backends scalar,simd,vulkan "${images[@]}" >"$here/work/conform.txt" 2>"$here/work/conform.err"
-conform_rc=$?
-summary=$(grep '^conform: ' "$here/work/conform.txt" | tail -1)
-say "${#images[@]} images; exit status $conform_rc; ${summary:-no summary line}"
-differing=$(awk '$1 == "conform" && NF == 5 && $5 != 0' "$here/work/conform.txt")
-[[ -n "$differing" ]] && { say "differing rows:"; say "$differing"; }
-if [[ -s "$here/work/conform.err" ]]; then say "stderr:"; sed 's/^/    /' "$here/work/conform.err" | tee -a "$out"; fi
-[[ $conform_rc == 0 && "$summary" == *", 0 differing" ]] || status=1
-{ echo ""; echo "<details><summary>every row</summary>"; echo ""; echo '```'; cat "$here/work/conform.txt"; echo '```'; echo "</details>"; } >>"$out"
+# conform_on TITLE IMAGE...: one conformance run, its summary and any differing rows in the results.
+conform_on() {
+  local title=$1; shift
+  say ""
+  say "## Conformance: ellipsekit conform --backends scalar,simd,vulkan $title"
+  say ""
+  bundled "$here/bin/ellipsekit" conform --backends scalar,simd,vulkan "$@" >"$here/work/conform.txt" 2>"$here/work/conform.err"
+  local rc=$? summary differing
+  summary=$(grep '^conform: ' "$here/work/conform.txt" | tail -1)
+  say "$# images; exit status $rc; ${summary:-no summary line}"
+  differing=$(awk '$1 == "conform" && NF == 5 && $5 != 0' "$here/work/conform.txt")
+  [[ -n "$differing" ]] && { say "differing rows:"; say "$differing"; }
+  if [[ -s "$here/work/conform.err" ]]; then say "stderr:"; sed 's/^/    /' "$here/work/conform.err" | tee -a "$out"; fi
+  [[ $rc == 0 && "$summary" == *", 0 differing" ]] || status=1
+  { echo ""; echo "<details><summary>every row</summary>"; echo ""; echo '```'; cat "$here/work/conform.txt"; echo '```'; echo "</details>"; } >>"$out"
+}
+conform_on "../shared/datasets/*/images/*" ../shared/datasets/*/images/*
+if [[ $scenes -gt 0 ]]; then
+  rm -rf "$here/work/scenes"
+  if bundled "$here/bin/ellipsekit" scenes --out "$here/work/scenes" --count "$scenes" --seed 7 >/dev/null 2>"$here/work/scenes.err"; then
+    conform_on "on $scenes generated scenes (ellipsekit scenes --count $scenes --seed 7)" "$here"/work/scenes/images/*
+  else
+    say "run.sh: ellipsekit scenes failed: $(head -1 "$here/work/scenes.err")"; status=1
+  fi
+fi
 
 if [[ $conform_only == 0 ]]; then
   if [[ $quick == 1 ]]; then
     filter='^(edge_stage|arc_stage)/|^detect/(simd|vulkan)/(prasad|photos|scenes)/'
     bench_args=(--benchmark_min_time=0.01)
   else
-    filter='^(edge_stage|arc_stage)/|^detect/(simd|vulkan)/'
+    filter='^(edge_stage|arc_stage)/|^detect/(simd|vulkan)/|^stream/(simd|vulkan)/'
     bench_args=(--benchmark_min_time=0.2 --benchmark_repetitions=3 --benchmark_report_aggregates_only=true)
   fi
   say ""
@@ -165,14 +185,14 @@ if [[ $conform_only == 0 ]]; then
   say "Ratios (real time; medians where there are repetitions; detect: summed over each set's images):"
   say ""
   # name time unit ... -> ms per name (the _median row if any), then the ratios.
-  awk '/^(edge_stage|arc_stage|detect)\// && $3 ~ /^(ns|us|ms|s)$/ {
+  awk '/^(edge_stage|arc_stage|detect|stream)\// && $3 ~ /^(ns|us|ms|s)$/ {
          name = $1; sub(/\/real_time/, "", name); med = sub(/_median$/, "", name)
          if (name ~ /_(mean|stddev|cv)$/) next
          f = ($3 == "ns") ? 1e-6 : ($3 == "us") ? 1e-3 : ($3 == "s") ? 1e3 : 1
          if (med || !(name in ms)) ms[name] = $2 * f
        }
        END {
-         print "| what | Vulkan ms | baseline ms | Vulkan / baseline |"; print "|---|---|---|---|"
+         print "| what | ms | baseline ms | ms / baseline |"; print "|---|---|---|---|"
          n = split("64x48 640x480 1280x720 1920x1080", sz, " ")
          for (i = 1; i <= n; i++) if (("edge_stage/vulkan/" sz[i]) in ms && ("edge_stage/simd/" sz[i]) in ms)
            printf "| edge_stage %s (baseline SIMD) | %.3f | %.3f | %.2f |\n", sz[i], ms["edge_stage/vulkan/" sz[i]], ms["edge_stage/simd/" sz[i]], ms["edge_stage/vulkan/" sz[i]] / ms["edge_stage/simd/" sz[i]]
@@ -181,6 +201,14 @@ if [[ $conform_only == 0 ]]; then
            printf "| arc_stage %s (baseline scalar) | %.3f | %.3f | %.2f |\n", in_[i], ms["arc_stage/vulkan/" in_[i]], ms["arc_stage/scalar/" in_[i]], ms["arc_stage/vulkan/" in_[i]] / ms["arc_stage/scalar/" in_[i]]
          for (k in ms) if (k ~ /^detect\/vulkan\//) { s = k; sub(/^detect\/vulkan\//, "", s); set = s; sub(/\/.*/, "", set)
            if (("detect/simd/" s) in ms) { v[set] += ms[k]; c[set] += ms["detect/simd/" s]; cnt[set]++ } }
+         split("simd vulkan", bk, " ")
+         for (i = 1; i <= 2; i++) for (d = 2; d <= 3; d++) {
+           st = "stream/" bk[i] "/scenes200/depth:" d; base = "stream/" bk[i] "/scenes200/detect"
+           if ((st in ms) && (base in ms))
+             printf "| stream %s depth %d, 200 frames (baseline detect() %s; ratio < 1 is faster) | %.3f | %.3f | %.2f |\n", bk[i], d, bk[i], ms[st], ms[base], ms[st] / ms[base]
+         }
+         for (d = 2; d <= 3; d++) if (("stream/vulkan/scenes200/depth:" d) in ms && ("stream/simd/scenes200/depth:" d) in ms)
+           printf "| stream vulkan depth %d, 200 frames (baseline the SIMD stream) | %.3f | %.3f | %.2f |\n", d, ms["stream/vulkan/scenes200/depth:" d], ms["stream/simd/scenes200/depth:" d], ms["stream/vulkan/scenes200/depth:" d] / ms["stream/simd/scenes200/depth:" d]
          split("prasad photos scenes scenes200", sets, " ")
          for (i = 1; i <= 4; i++) if (cnt[sets[i]])
            printf "| detect %s, %d rows (baseline SIMD) | %.3f | %.3f | %.2f |\n", sets[i], cnt[sets[i]], v[sets[i]], c[sets[i]], v[sets[i]] / c[sets[i]]

@@ -8,6 +8,9 @@
 // Buffers are sized on the first frame of a given size and reused, so later frames of that size
 // do not allocate (the caller keeps `result` across calls so its vector keeps its capacity).
 // A Detector is used by one thread at a time; separate detectors run concurrently.
+// With Backend::kVulkan (or a Stream over it), destroy it before the process exits, not from a
+// static destructor: NVIDIA's Vulkan driver finalises itself in an exit handler, and Vulkan calls
+// made after that crash (seen on an H200, driver 580.159).
 #pragma once
 
 #include <memory>
