@@ -52,12 +52,19 @@ class VulkanEdgeStage {
              std::uint8_t* edge_map);
 
   // The steps (dispatches) the device time is split into (timestamps after each step's barrier).
-  enum Step { kStepGaussianSobelThresholds, kStepNmsEdgeSign, kStepHysteresis, kNumSteps };
+  // kStepHysteresisBlocks takes no time on a device without the memory model (not dispatched).
+  enum Step { kStepGaussianSobelThresholds, kStepNmsEdgeSign, kStepHysteresisBlocks, kStepHysteresis, kNumSteps };
   static const char* StepName(Step s);
 
   // Device timestamps around each step: off by default, because on lavapipe each timestamp costs
   // about as much as a dispatch (docs/vulkan.md). Takes effect at the next Run.
   void set_timing(bool on) { timing_ = on; }
+  // Passes of hysteresis_blocks.comp before the one-workgroup hysteresis (same edge map, less
+  // time on a GPU): -1 (default) one per 256 rows on a GPU, none on a CPU device such as lavapipe;
+  // n >= 0 forces n (tests run the GPU's path on lavapipe). None without the memory model.
+  // Takes effect at the next Run.
+  void set_hysteresis_block_passes(int n) { block_passes_ = n < 0 ? -1 : n; }
+  int hysteresis_block_passes(int height) const { return HysteresisBlockPasses(height); }
   // Device time of the last Run (GPU timestamps; the host's row copies into and out of the
   // host-visible buffers are not in it); -1 when step timing is off or the queue has no timestamps.
   double last_device_ms() const { return last_device_ms_; }
@@ -70,13 +77,22 @@ class VulkanEdgeStage {
 
  private:
   // kGaussianSobelThresholds blurs first, kSobelThresholds does not (BLUR = 1 / 0).
-  enum Pipeline { kGaussianSobelThresholds, kSobelThresholds, kNmsEdgeSign, kHysteresis, kNumPipelines };
+  // kHysteresisBlocks: only with the memory model (else a copy of kHysteresis, never dispatched).
+  enum Pipeline {
+    kGaussianSobelThresholds,
+    kSobelThresholds,
+    kNmsEdgeSign,
+    kHysteresisBlocks,
+    kHysteresis,
+    kNumPipelines
+  };
   static constexpr int kNumBindings = 7;
 
   // What the recorded command buffer was made for; Run re-records when the frame asks for other.
   struct Recording {
     int width = 0, height = 0;
     bool blur = false, timed = false;
+    int block_passes = 0;  // hysteresis_blocks.comp dispatches
     std::uint32_t need = 0, low_permille = 0, min_high = 0;  // the thresholds' push constants
     bool operator==(const Recording&) const = default;
   };
@@ -88,6 +104,7 @@ class VulkanEdgeStage {
   void Dispatch(VkCommandBuffer cb, Pipeline p, std::uint32_t gx, std::uint32_t gy, const std::uint32_t* push);
   void Dispatch1D(VkCommandBuffer cb, Pipeline p, std::uint64_t groups, const std::uint32_t* push);
   Status Record(const Recording& rec);
+  int HysteresisBlockPasses(int height) const;
 
   std::shared_ptr<VulkanContext> ctx_;
   // Layouts, pipelines (indexed by Pipeline), the set, command buffer 0 (the frame's, recorded
@@ -101,12 +118,13 @@ class VulkanEdgeStage {
   int width_ = 0, height_ = 0;
   Recording recorded_;  // width 0: nothing recorded
   bool timing_ = false;
+  int block_passes_ = -1;
   std::uint32_t chunks_ = 0;           // 16-pixel chunks per row: ceil(width / 16)
   std::uint32_t padded_row_vec4_ = 0;  // uvec4 per row of the padded frame: chunks_ + 2
   std::uint32_t mask_words_ = 0;       // 32-pixel hysteresis mask words per row: ceil(width / 32)
   static constexpr std::uint32_t kPushWords = 8;
   double last_device_ms_ = -1;
-  double last_step_ms_[kNumSteps] = {-1, -1, -1};
+  double last_step_ms_[kNumSteps] = {-1, -1, -1, -1};
 };
 
 }  // namespace ellipsekit

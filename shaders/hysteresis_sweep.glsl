@@ -1,7 +1,8 @@
-// hysteresis_sweep: the body of hysteresis.comp and hysteresis_rmw.comp, which define the atomic
-// accessors NeighbourEdges(index) and StoreEdges(index, word) of binding 5 and PassBarrier() (a
-// workgroup barrier that makes the buffer and shared writes before it visible after it), include
-// this file, then define SetPassChanged(slot).
+// hysteresis_sweep: the body of hysteresis.comp, hysteresis_rmw.comp and hysteresis_blocks.comp,
+// which define the atomic accessors NeighbourEdges(index) and StoreEdges(index, word) of binding 5
+// and PassBarrier() (a workgroup barrier that makes the buffer and shared writes before it visible
+// after it), include this file, then define SetPassChanged(slot). hysteresis_blocks.comp defines
+// HYSTERESIS_BLOCKS first and gets the blocks' entry point instead of the finishing one.
 //
 // Canny edge tracking (kernels/hysteresis.h) on bit masks to its global fixed point in one
 // dispatch of ONE workgroup (a workgroup barrier is the only device-wide synchronisation a shader
@@ -29,6 +30,15 @@
 // are atomic (NeighbourEdges / StoreEdges), so there is no data race. hysteresis.comp does them
 // as relaxed atomic loads and stores under the Vulkan memory model (plain loads and stores on
 // most hardware); hysteresis_rmw.comp, for devices without vulkanMemoryModel, as atomicOr.
+//
+// The blocks' passes (hysteresis_blocks.comp, dispatched before this one on GPUs with the memory
+// model; runtime/vulkan_edge_stage.cc says how many): one invocation per strip and block of
+// kBlockRows rows, all workgroups at once, each block swept down and up to its own fixed point given
+// what it reads of the others. Its promotions are the same monotone rule, so the result is
+// unchanged (the one workgroup still proves the fixed point); they only leave it less to do. A
+// chain that crosses a strip's side costs the one workgroup a pass of every strip, and the one
+// workgroup runs on one of a GPU's many multiprocessors: an H200 spent 1.2 of the 1.4 ms of a
+// 640x480 frame's device time here, 0.36 ms after one blocks' pass (docs/vulkan.md).
 //
 // Edge map (binding 6): packed bytes (4 pixels per uint, little-endian), rows of 32 * pc.b bytes;
 // the bytes of the candidates that did not become edges are cleared (only words that hold one
@@ -59,21 +69,28 @@ uint FillRuns(uint seed, uint cand) {
   return up | dn;
 }
 
-// One sweep over the strip's rows, from row `start` in direction `dir` (+1 down, -1 up). A row
-// step promotes the candidates touching an edge pixel in the row before (already updated), the
+// One sweep over `count` rows of the strip, from row `start` in direction `dir` (+1 down, -1 up). A
+// row step promotes the candidates touching an edge pixel in the row before (already updated), the
 // row itself or the row after, the neighbour strips' bits 31 / 0 included, then floods the row's
-// candidate runs. Loads run one row ahead and are carried, so a step does three loads and no
-// data-dependent ones (lavapipe executes both sides of a branch, masked, so "rare" loads cost
-// as much as common ones). ls / rs: the neighbour strips (clamped), lm / rm: ~0 when they exist.
-void Sweep(int start, int dir, uint s, uint ls, uint rs, uint lm, uint rm, uint wpr, int h, inout bool changed) {
-  uvec2 cur = masks[uint(start) * wpr + s];
+// candidate runs. The rows before and after the swept ones, and the neighbour strips, may belong
+// to other invocations, so their edge words are read with NeighbourEdges. Loads run one row ahead
+// and are carried, so a step does four loads and no data-dependent ones (lavapipe executes both
+// sides of a branch, masked, so "rare" loads cost as much as common ones). ls / rs: the neighbour
+// strips (clamped), lm / rm: ~0 when they exist.
+void Sweep(int start, int dir, int count, uint s, uint ls, uint rs, uint lm, uint rm, uint wpr, int h,
+           inout bool changed) {
+  int yb = start - dir;
+  uint before = (yb >= 0 && yb < h) ? ~0u : 0u;
+  uint rowb = uint(clamp(yb, 0, h - 1)) * wpr;
+  uint prev = NeighbourEdges(rowb + s) & before;
+  uint lprev = NeighbourEdges(rowb + ls) & lm & before, rprev = NeighbourEdges(rowb + rs) & rm & before;
+  uvec2 cur = uvec2(masks[uint(start) * wpr + s].x, NeighbourEdges(uint(start) * wpr + s));
   uint lcur = NeighbourEdges(uint(start) * wpr + ls) & lm, rcur = NeighbourEdges(uint(start) * wpr + rs) & rm;
-  uint prev = 0u, lprev = 0u, rprev = 0u;
-  for (int i = 0; i < h; ++i) {
+  for (int i = 0; i < count; ++i) {
     int y = start + i * dir, ya = y + dir;
     uint inside = (ya >= 0 && ya < h) ? ~0u : 0u;
     uint row = uint(clamp(ya, 0, h - 1)) * wpr;
-    uvec2 nxt = masks[row + s] & uvec2(inside);
+    uvec2 nxt = uvec2(masks[row + s].x, NeighbourEdges(row + s)) & uvec2(inside);
     uint lnx = NeighbourEdges(row + ls) & lm & inside, rnx = NeighbourEdges(row + rs) & rm & inside;
     uint v = prev | cur.y | nxt.y;
     uint reach = v | (v << 1u) | (v >> 1u) | ((lprev | lcur | lnx) >> 31u) | (((rprev | rcur | rnx) & 1u) << 31u);
@@ -90,6 +107,8 @@ void Sweep(int start, int dir, uint s, uint ls, uint rs, uint lm, uint rm, uint 
     cur = nxt;
   }
 }
+
+#ifndef HYSTERESIS_BLOCKS
 
 // ~(0xff in the bytes of the pixels whose bit is set), for 4 pixels (bits 0..3 of each word of
 // `bits`).
@@ -122,8 +141,8 @@ void main() {
       // barrier: a chain along one strip costs sweeps of that strip only, not passes of all.
       for (uint local = 0u; local <= 32u * pc.height; ++local) {
         bool again = false;
-        Sweep(0, 1, s, ls, rs, lm, rm, wpr, h, again);
-        Sweep(h - 1, -1, s, ls, rs, lm, rm, wpr, h, again);
+        Sweep(0, 1, h, s, ls, rs, lm, rm, wpr, h, again);
+        Sweep(h - 1, -1, h, s, ls, rs, lm, rm, wpr, h, again);
         if (!again) break;
         changed = true;
       }
@@ -142,3 +161,28 @@ void main() {
     }
   }
 }
+
+#else  // HYSTERESIS_BLOCKS
+
+const uint kBlockRows = 64u;  // rows per block; runtime/vulkan_edge_stage.cc kHysteresisBlockRows
+
+// Invocation id: strip s = id % pc.b, rows kBlockRows * (id / pc.b) ... to its block's fixed point
+// given what it reads of the others (32 * kBlockRows + 1 repeats bound it, as for a strip).
+void main() {
+  uint id = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
+  uint wpr = pc.b, s = id % wpr;
+  int h = int(pc.height);
+  int y0 = int((id / wpr) * kBlockRows);
+  if (y0 >= h) return;
+  int count = min(int(kBlockRows), h - y0);
+  uint ls = s > 0u ? s - 1u : s, rs = s + 1u < wpr ? s + 1u : s;
+  uint lm = s > 0u ? ~0u : 0u, rm = s + 1u < wpr ? ~0u : 0u;
+  for (uint local = 0u; local <= 32u * kBlockRows; ++local) {
+    bool again = false;
+    Sweep(y0, 1, count, s, ls, rs, lm, rm, wpr, h, again);
+    Sweep(y0 + count - 1, -1, count, s, ls, rs, lm, rm, wpr, h, again);
+    if (!again) break;
+  }
+}
+
+#endif  // HYSTERESIS_BLOCKS

@@ -132,9 +132,7 @@ TEST(ConformanceVulkanEdge, FlatImages) {
 
 // A 1-px serpentine whose brightness rises along the path: only its bright end is strong, the
 // rest weak, so hysteresis must walk the whole path across many strips (many passes).
-TEST(ConformanceVulkanEdge, LongHysteresisChain) {
-  REQUIRE_VULKAN(stage);
-  const int w = 256, h = 256;
+std::vector<std::uint8_t> Serpentine(int w, int h) {
   std::vector<std::uint8_t> img(static_cast<std::size_t>(w) * h, 0);
   int step = 0;
   const int total = (h / 4) * (w - 4);
@@ -147,11 +145,44 @@ TEST(ConformanceVulkanEdge, LongHysteresisChain) {
     const int xe = (row % 2 == 0) ? w - 3 : 2;
     for (int k = 1; k < 4; ++k) img[(y + k) * w + xe] = static_cast<std::uint8_t>(40 + (215 * step) / total);
   }
+  return img;
+}
+Options SerpentineOptions() {
   Options o;
   o.gaussian_blur = false;
   o.canny_min_high = 600;
   o.canny_low_permille = 50;
-  ExpectSame(stage, ImageView{img.data(), w, h, w}, o, "serpentine");
+  return o;
+}
+
+TEST(ConformanceVulkanEdge, LongHysteresisChain) {
+  REQUIRE_VULKAN(stage);
+  const auto img = Serpentine(256, 256);
+  ExpectSame(stage, ImageView{img.data(), 256, 256, 256}, SerpentineOptions(), "serpentine");
+}
+
+// The blocks' passes before the one-workgroup hysteresis (hysteresis_blocks.comp) leave the edge
+// map unchanged, however many run: the GPU's path (none by default on a CPU device) forced here,
+// on frames whose chains cross many blocks and strips. Then the default again.
+TEST(ConformanceVulkanEdge, HysteresisBlockPasses) {
+  REQUIRE_VULKAN(stage);
+  const bool cpu = stage->context()->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  if (!stage->context()->memory_model()) {
+    EXPECT_EQ(stage->hysteresis_block_passes(1080), 0) << "no blocks' pass without the memory model";
+  } else {
+    EXPECT_EQ(stage->hysteresis_block_passes(1080), cpu ? 0 : 5) << "default: one pass per 256 rows on a GPU";
+  }
+  const auto serpentine = Serpentine(300, 520);
+  const auto shapes = Shapes(640, 480, 23);
+  const auto noise = Noise(200, 150, 200, 5);
+  for (int passes : {1, 3, 0}) {
+    stage->set_hysteresis_block_passes(passes);
+    const std::string tag = std::to_string(passes) + " blocks' passes: ";
+    ExpectSame(stage, ImageView{serpentine.data(), 300, 520, 300}, SerpentineOptions(), tag + "serpentine");
+    ExpectSameBothBlurs(stage, ImageView{shapes.data(), 640, 480, 640}, tag + "shapes 640x480");
+    ExpectSameBothBlurs(stage, ImageView{noise.data(), 200, 150, 200}, tag + "noise 200x150");
+  }
+  stage->set_hysteresis_block_passes(-1);
 }
 
 TEST(ConformanceVulkanEdge, SizeChangesReuseAndRecreate) {
