@@ -69,11 +69,22 @@ uint FillRuns(uint seed, uint cand) {
   return up | dn;
 }
 
+// The (candidate, edge) words of the swept strip at `index`, a row the sweep may not own: in the
+// one workgroup an invocation owns every row of its strips (a plain load), in a block the rows
+// before and after it are another invocation's (the edge word by NeighbourEdges).
+uvec2 StripWords(uint index) {
+#ifdef HYSTERESIS_BLOCKS
+  return uvec2(masks[index].x, NeighbourEdges(index));
+#else
+  return masks[index];
+#endif
+}
+
 // One sweep over `count` rows of the strip, from row `start` in direction `dir` (+1 down, -1 up). A
 // row step promotes the candidates touching an edge pixel in the row before (already updated), the
 // row itself or the row after, the neighbour strips' bits 31 / 0 included, then floods the row's
-// candidate runs. The rows before and after the swept ones, and the neighbour strips, may belong
-// to other invocations, so their edge words are read with NeighbourEdges. Loads run one row ahead
+// candidate runs. The rows before and after the swept ones (StripWords) and the neighbour strips
+// (NeighbourEdges) may belong to other invocations. Loads run one row ahead
 // and are carried, so a step does four loads and no data-dependent ones (lavapipe executes both
 // sides of a branch, masked, so "rare" loads cost as much as common ones). ls / rs: the neighbour
 // strips (clamped), lm / rm: ~0 when they exist.
@@ -82,15 +93,15 @@ void Sweep(int start, int dir, int count, uint s, uint ls, uint rs, uint lm, uin
   int yb = start - dir;
   uint before = (yb >= 0 && yb < h) ? ~0u : 0u;
   uint rowb = uint(clamp(yb, 0, h - 1)) * wpr;
-  uint prev = NeighbourEdges(rowb + s) & before;
+  uint prev = StripWords(rowb + s).y & before;
   uint lprev = NeighbourEdges(rowb + ls) & lm & before, rprev = NeighbourEdges(rowb + rs) & rm & before;
-  uvec2 cur = uvec2(masks[uint(start) * wpr + s].x, NeighbourEdges(uint(start) * wpr + s));
+  uvec2 cur = masks[uint(start) * wpr + s];
   uint lcur = NeighbourEdges(uint(start) * wpr + ls) & lm, rcur = NeighbourEdges(uint(start) * wpr + rs) & rm;
   for (int i = 0; i < count; ++i) {
     int y = start + i * dir, ya = y + dir;
     uint inside = (ya >= 0 && ya < h) ? ~0u : 0u;
     uint row = uint(clamp(ya, 0, h - 1)) * wpr;
-    uvec2 nxt = uvec2(masks[row + s].x, NeighbourEdges(row + s)) & uvec2(inside);
+    uvec2 nxt = StripWords(row + s) & uvec2(inside);
     uint lnx = NeighbourEdges(row + ls) & lm & inside, rnx = NeighbourEdges(row + rs) & rm & inside;
     uint v = prev | cur.y | nxt.y;
     uint reach = v | (v << 1u) | (v >> 1u) | ((lprev | lcur | lnx) >> 31u) | (((rprev | rcur | rnx) & 1u) << 31u);
