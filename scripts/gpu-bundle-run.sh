@@ -191,27 +191,31 @@ if [[ $conform_only == 0 ]]; then
          f = ($3 == "ns") ? 1e-6 : ($3 == "us") ? 1e-3 : ($3 == "s") ? 1e3 : 1
          if (med || !(name in ms)) ms[name] = $2 * f
        }
+       # One table row: what, ms, the baseline ms, their ratio.
+       function row(what, a, b) { printf "| %s | %.3f | %.3f | %.2f |\n", what, a, b, a / b }
        END {
          print "| what | ms | baseline ms | ms / baseline |"; print "|---|---|---|---|"
          n = split("64x48 640x480 1280x720 1920x1080", sz, " ")
          for (i = 1; i <= n; i++) if (("edge_stage/vulkan/" sz[i]) in ms && ("edge_stage/simd/" sz[i]) in ms)
-           printf "| edge_stage %s (baseline SIMD) | %.3f | %.3f | %.2f |\n", sz[i], ms["edge_stage/vulkan/" sz[i]], ms["edge_stage/simd/" sz[i]], ms["edge_stage/vulkan/" sz[i]] / ms["edge_stage/simd/" sz[i]]
+           row("edge_stage " sz[i] " (baseline SIMD)", ms["edge_stage/vulkan/" sz[i]], ms["edge_stage/simd/" sz[i]])
          split("scene prasad", in_, " ")
          for (i = 1; i <= 2; i++) if (("arc_stage/vulkan/" in_[i]) in ms && ("arc_stage/scalar/" in_[i]) in ms)
-           printf "| arc_stage %s (baseline scalar) | %.3f | %.3f | %.2f |\n", in_[i], ms["arc_stage/vulkan/" in_[i]], ms["arc_stage/scalar/" in_[i]], ms["arc_stage/vulkan/" in_[i]] / ms["arc_stage/scalar/" in_[i]]
+           row("arc_stage " in_[i] " (baseline scalar)", ms["arc_stage/vulkan/" in_[i]], ms["arc_stage/scalar/" in_[i]])
          for (k in ms) if (k ~ /^detect\/vulkan\//) { s = k; sub(/^detect\/vulkan\//, "", s); set = s; sub(/\/.*/, "", set)
            if (("detect/simd/" s) in ms) { v[set] += ms[k]; c[set] += ms["detect/simd/" s]; cnt[set]++ } }
          split("simd vulkan", bk, " ")
          for (i = 1; i <= 2; i++) for (d = 2; d <= 3; d++) {
            st = "stream/" bk[i] "/scenes200/depth:" d; base = "stream/" bk[i] "/scenes200/detect"
            if ((st in ms) && (base in ms))
-             printf "| stream %s depth %d, 200 frames (baseline detect() %s; ratio < 1 is faster) | %.3f | %.3f | %.2f |\n", bk[i], d, bk[i], ms[st], ms[base], ms[st] / ms[base]
+             row("stream " bk[i] " depth " d ", 200 frames (baseline detect() " bk[i] "; ratio < 1 is faster)", ms[st], ms[base])
          }
-         for (d = 2; d <= 3; d++) if (("stream/vulkan/scenes200/depth:" d) in ms && ("stream/simd/scenes200/depth:" d) in ms)
-           printf "| stream vulkan depth %d, 200 frames (baseline the SIMD stream) | %.3f | %.3f | %.2f |\n", d, ms["stream/vulkan/scenes200/depth:" d], ms["stream/simd/scenes200/depth:" d], ms["stream/vulkan/scenes200/depth:" d] / ms["stream/simd/scenes200/depth:" d]
+         for (d = 2; d <= 3; d++) {
+           st = "stream/vulkan/scenes200/depth:" d; base = "stream/simd/scenes200/depth:" d
+           if ((st in ms) && (base in ms)) row("stream vulkan depth " d ", 200 frames (baseline the SIMD stream)", ms[st], ms[base])
+         }
          split("prasad photos scenes scenes200", sets, " ")
          for (i = 1; i <= 4; i++) if (cnt[sets[i]])
-           printf "| detect %s, %d rows (baseline SIMD) | %.3f | %.3f | %.2f |\n", sets[i], cnt[sets[i]], v[sets[i]], c[sets[i]], v[sets[i]] / c[sets[i]]
+           row("detect " sets[i] ", " cnt[sets[i]] " rows (baseline SIMD)", v[sets[i]], c[sets[i]])
        }' "$out" | tee -a "$out"
 fi
 say ""
