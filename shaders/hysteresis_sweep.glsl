@@ -84,8 +84,8 @@ uvec2 StripWords(uint index) {
 // row step promotes the candidates touching an edge pixel in the row before (already updated), the
 // row itself or the row after, the neighbour strips' bits 31 / 0 included, then floods the row's
 // candidate runs. The rows before and after the swept ones (StripWords) and the neighbour strips
-// (NeighbourEdges) may belong to other invocations. Loads run one row ahead
-// and are carried, so a step does four loads and no data-dependent ones (lavapipe executes both
+// (NeighbourEdges) may belong to other invocations. Loads run one row ahead and are carried, so a
+// step does three loads (four in a block) and no data-dependent ones (lavapipe executes both
 // sides of a branch, masked, so "rare" loads cost as much as common ones). ls / rs: the neighbour
 // strips (clamped), lm / rm: ~0 when they exist.
 void Sweep(int start, int dir, int count, uint s, uint ls, uint rs, uint lm, uint rm, uint wpr, int h,
@@ -119,6 +119,23 @@ void Sweep(int start, int dir, int count, uint s, uint ls, uint rs, uint lm, uin
   }
 }
 
+// Rows y0 .. y0 + count - 1 of strip s swept down and up until they change no more, given what
+// is read of the other rows and strips; whether anything changed. Every repeat promotes a pixel of
+// those rows, so 32 * count + 1 repeats bound it.
+bool SweepToFixedPoint(uint s, int y0, int count, uint wpr, int h) {
+  uint ls = s > 0u ? s - 1u : s, rs = s + 1u < wpr ? s + 1u : s;
+  uint lm = s > 0u ? ~0u : 0u, rm = s + 1u < wpr ? ~0u : 0u;
+  bool changed = false;
+  for (uint local = 0u; local <= 32u * uint(count); ++local) {
+    bool again = false;
+    Sweep(y0, 1, count, s, ls, rs, lm, rm, wpr, h, again);
+    Sweep(y0 + count - 1, -1, count, s, ls, rs, lm, rm, wpr, h, again);
+    if (!again) break;
+    changed = true;
+  }
+  return changed;
+}
+
 #ifndef HYSTERESIS_BLOCKS
 
 // ~(0xff in the bytes of the pixels whose bit is set), for 4 pixels (bits 0..3 of each word of
@@ -146,17 +163,9 @@ void main() {
   for (uint pass = 0u; pass <= bound; ++pass) {
     bool changed = false;
     for (uint s = lid; s < wpr; s += gl_WorkGroupSize.x) {
-      uint ls = s > 0u ? s - 1u : s, rs = s + 1u < wpr ? s + 1u : s;
-      uint lm = s > 0u ? ~0u : 0u, rm = s + 1u < wpr ? ~0u : 0u;
       // The strip to its own fixed point (given what it reads of its neighbours) before the
       // barrier: a chain along one strip costs sweeps of that strip only, not passes of all.
-      for (uint local = 0u; local <= 32u * pc.height; ++local) {
-        bool again = false;
-        Sweep(0, 1, h, s, ls, rs, lm, rm, wpr, h, again);
-        Sweep(h - 1, -1, h, s, ls, rs, lm, rm, wpr, h, again);
-        if (!again) break;
-        changed = true;
-      }
+      if (SweepToFixedPoint(s, 0, h, wpr, h)) changed = true;
     }
     if (changed) SetPassChanged(pass % 3u);
     if (lid == 0u) pass_changed[(pass + 1u) % 3u] = 0u;
@@ -178,22 +187,13 @@ void main() {
 const uint kBlockRows = 64u;  // rows per block; runtime/vulkan_edge_stage.cc kHysteresisBlockRows
 
 // Invocation id: strip s = id % pc.b, rows kBlockRows * (id / pc.b) ... to its block's fixed point
-// given what it reads of the others (32 * kBlockRows + 1 repeats bound it, as for a strip).
+// given what it reads of the others.
 void main() {
   uint id = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
-  uint wpr = pc.b, s = id % wpr;
   int h = int(pc.height);
-  int y0 = int((id / wpr) * kBlockRows);
+  int y0 = int((id / pc.b) * kBlockRows);
   if (y0 >= h) return;
-  int count = min(int(kBlockRows), h - y0);
-  uint ls = s > 0u ? s - 1u : s, rs = s + 1u < wpr ? s + 1u : s;
-  uint lm = s > 0u ? ~0u : 0u, rm = s + 1u < wpr ? ~0u : 0u;
-  for (uint local = 0u; local <= 32u * kBlockRows; ++local) {
-    bool again = false;
-    Sweep(y0, 1, count, s, ls, rs, lm, rm, wpr, h, again);
-    Sweep(y0 + count - 1, -1, count, s, ls, rs, lm, rm, wpr, h, again);
-    if (!again) break;
-  }
+  SweepToFixedPoint(id % pc.b, y0, min(int(kBlockRows), h - y0), pc.b, h);
 }
 
 #endif  // HYSTERESIS_BLOCKS
