@@ -2,8 +2,10 @@
 
 namespace ellipsekit {
 
-PointMoments MomentsOfPoints(const std::int32_t* x, const std::int32_t* y, int begin, int end,
-                             std::int32_t ox, std::int32_t oy) {
+namespace {
+
+template <typename T>
+PointMoments Moments(const T* x, const T* y, int begin, int end, T ox, T oy) {
   PointMoments p;
   p.ox = ox;
   p.oy = oy;
@@ -20,6 +22,17 @@ PointMoments MomentsOfPoints(const std::int32_t* x, const std::int32_t* y, int b
     }
   }
   return p;
+}
+
+}  // namespace
+
+PointMoments MomentsOfPoints(const std::int32_t* x, const std::int32_t* y, int begin, int end,
+                             std::int32_t ox, std::int32_t oy) {
+  return Moments(x, y, begin, end, ox, oy);
+}
+
+PointMoments MomentsOfPoints(const double* x, const double* y, int begin, int end, double ox, double oy) {
+  return Moments(x, y, begin, end, ox, oy);
 }
 
 void AddShiftedMoments(const PointMoments& p, PointMoments* acc) {

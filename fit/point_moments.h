@@ -20,6 +20,8 @@ struct PointMoments {
 // Exact for arcs up to ~4000 px across (every sum is an integer below 2^53).
 PointMoments MomentsOfPoints(const std::int32_t* x, const std::int32_t* y, int begin, int end,
                              std::int32_t ox, std::int32_t oy);
+// The same for points at fractions of a pixel (fit/image_refit.h); the sums are then rounded.
+PointMoments MomentsOfPoints(const double* x, const double* y, int begin, int end, double ox, double oy);
 
 // Adds p's moments, re-expressed about acc's origin, to *acc (binomial expansion of the shift).
 void AddShiftedMoments(const PointMoments& p, PointMoments* acc);

@@ -115,6 +115,7 @@ struct Detector::Impl {
 
   // What the pixel stage of the current frame left for its back end.
   struct Front {
+    ImageView input;  // the caller's frame (Options::refit_to_image reads it after the back end)
     ImageView image;  // the level it ran on (in `pyramid`, or the caller's frame at level 0)
     int level = 0;
     Backend ran = Backend::kScalar, arcs_ran = Backend::kScalar;

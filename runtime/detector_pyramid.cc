@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "fit/image_refit.h"
 #include "kernels/pyramid_down.h"
 #include "runtime/detector_impl.h"
 
@@ -60,6 +61,7 @@ void ScaleUp(int from, int to, std::vector<Ellipse>* ellipses) {
 
 Status Detector::Impl::PixelStage(const ImageView& input) {
   const auto start = Clock::now();
+  front.input = input;
   front.level = PyramidLevel(input);
   front.image = Reduce(input, front.level);
   const double reduce_ms = Ms(start, Clock::now());
@@ -78,12 +80,19 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
   const int level = front.level;
   ImageView image = front.image;
   claimed_near.clear();
+  // r->ellipses[found_by[l - 1], found_by[l]) were found on level `level` + l, l < levels.
+  int found_by[kMaxPyramidLevel + 1] = {static_cast<int>(r->ellipses.size())};
+  int levels = 1;
   // Options::coarse_levels: the next levels too, each by a Detector of its own (its buffers keep
   // their size), their ellipses added unless one of the finer levels already holds them. Not on a
   // frame whose working level reached a cap: that frame has done the most work a frame may cost.
-  const bool coarse_on = static_cast<long long>(image.width) * image.height >= options.coarse_min_pixels &&
-                         r->caps_hit == kCapNone;
-  for (int c = 0; coarse_on && c < options.coarse_levels && std::min(image.width, image.height) / 2 >= kMinPyramidSide; ++c) {
+  // Coarse level c + 1 runs on a working frame of at least coarse_min_pixels x 4^c pixels (measured
+  // in docs/resolution.md: a second level on 1280x720 frames cost 8 % and added nothing).
+  const long long pixels = static_cast<long long>(image.width) * image.height;
+  for (int c = 0; r->caps_hit == kCapNone && c < options.coarse_levels &&
+                  pixels >= (static_cast<long long>(options.coarse_min_pixels) << (2 * c)) &&
+                  std::min(image.width, image.height) / 2 >= kMinPyramidSide;
+       ++c) {
     if (!coarse[c]) {
       coarse[c] = std::make_unique<Impl>();
       coarse[c]->options = options;
@@ -124,9 +133,14 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
       claimed_near.push_back(1);
       ClaimEdges(EdgeView(), e, &claims);
     }
+    found_by[levels++] = static_cast<int>(r->ellipses.size());
   }
   ScaleUp(level, 0, &r->ellipses);
   claims.Clear();
+  // Options::refit_to_image: what a reduced level found, refitted to the frame itself.
+  for (int l = 0, begin = 0; options.refit_to_image && l < levels; begin = found_by[l++]) {
+    for (int i = begin; level + l > 0 && i < found_by[l]; ++i) RefitToImage(front.input, level + l, &r->ellipses[i]);
+  }
   // The reduction, the level's pixel stage, and everything since (back end, coarser levels).
   const StageTimings& t = r->timings;
   r->timings.total_ms =

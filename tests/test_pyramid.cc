@@ -56,6 +56,7 @@ TEST(Pyramid, CoordinatesOfALevelAreTheFrames) {
   ellipsekit::Options o;
   o.pyramid_level = 0;
   o.coarse_levels = 0;
+  o.refit_to_image = false;  // the mapping itself (the refit is test_image_refit's)
   ellipsekit::Detector at_frame(o);
   o.pyramid_level = 1;
   ellipsekit::Detector at_level1(o);
@@ -77,7 +78,7 @@ TEST(Pyramid, CoordinatesOfALevelAreTheFrames) {
 
 // prasad_subset 027_0003 (720x435, 28 calculator keys) upscaled 3x (2160x1305) and 5.5x
 // (3960x2393, 9.5 Mpx) with cubic interpolation, truth mapped alike. Measured (the defaults:
-// coarse_levels 1; at 5.5x pyramid_level auto picks level 2): 24 and 26 keys; with the frame's
+// coarse_levels 2, refit_to_image; at 5.5x pyramid_level auto picks level 2): 25 and 26 keys; with the frame's
 // own level only (pyramid_level 0, coarse_levels 0): 11 and 0.
 TEST(Pyramid, CalculatorKeysAtThreeAndFiveAndAHalfTimesTheResolution) {
   const std::string dir = std::string(ELLIPSEKIT_SOURCE_DIR) + "/../shared/datasets/prasad_subset/";

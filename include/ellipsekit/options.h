@@ -69,13 +69,16 @@ struct Options {
   // level whose shorter side is below 64 px.
   int pyramid_level = -1;
   int pyramid_max_pixels = 4000000;
-  // Then, on a working frame of at least coarse_min_pixels pixels, it also detects on the next
-  // coarse_levels levels and adds what they find that the finer ones did not (an ellipse must be
-  // backed by the working level's edges not claimed by finer ellipses, along min_edge_coverage of
-  // its outline). Each coarser level works within a quarter of the finer level's caps (max_arcs,
-  // max_pairs, max_triplets, max_candidates).
-  int coarse_levels = 1;
+  // Then it also detects on the next coarse_levels levels, level c (1, 2, ...) when the working
+  // frame has at least coarse_min_pixels x 4^(c - 1) pixels, and adds what they find that the finer
+  // ones did not (an ellipse must be backed by the working level's edges not claimed by finer
+  // ellipses, along min_edge_coverage of its outline). Each coarser level works within a quarter
+  // of the finer level's caps (max_arcs, max_pairs, max_triplets, max_candidates).
+  int coarse_levels = 2;
   int coarse_min_pixels = 400000;
+  // An ellipse found on a reduced level is mapped up 2^L times, its error with it; refit_to_image
+  // refits it to the frame itself, along its outline's normals (fit/image_refit.h).
+  bool refit_to_image = true;
 
   // ---- edges (sec. II-A): Canny with automatic thresholds
   bool gaussian_blur = true;        // 3x3 binomial pre-filter (integer, exact)
