@@ -54,6 +54,34 @@ TEST(CrowdedScenes, DeterministicPerSeed) {
   EXPECT_GT(cv::norm(a.gray, c.gray, cv::NORM_INF), 0);
 }
 
+// CrowdedSceneOptions::clutter draws its bars, cables and marks after the layout and the camera,
+// so a seed's cluttered truth is its plain truth less the circles hidden by more than half; over
+// six seeds some are hidden, most are kept, and the frames differ.
+TEST(CrowdedScenes, ClutterHidesPartsOfTheLayoutAndTheTruthKeepsWhatShows) {
+  CrowdedSceneOptions plain;
+  plain.width = 640;
+  plain.height = 480;
+  plain.objects = 60;
+  CrowdedSceneOptions cluttered = plain;
+  cluttered.clutter = true;
+  std::size_t kept = 0, all = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const Scene p = RenderCrowdedScene(seed, plain), c = RenderCrowdedScene(seed, cluttered);
+    ASSERT_FALSE(c.gray.empty());
+    EXPECT_GT(cv::norm(p.gray, c.gray, cv::NORM_INF), 0) << "seed " << seed;
+    EXPECT_EQ(cv::norm(c.gray, RenderCrowdedScene(seed, cluttered).gray, cv::NORM_INF), 0) << "seed " << seed;
+    std::size_t j = 0;  // the kept ones, in the plain truth's order
+    for (const ellipsekit::Ellipse& e : p.truth) {
+      if (j < c.truth.size() && c.truth[j].cx == e.cx && c.truth[j].cy == e.cy && c.truth[j].a == e.a) ++j;
+    }
+    EXPECT_EQ(j, c.truth.size()) << "seed " << seed << ": the cluttered truth is not a subset of the plain one";
+    kept += c.truth.size();
+    all += p.truth.size();
+  }
+  EXPECT_LT(kept, all) << "no circle was hidden in six seeds";
+  EXPECT_GT(kept, all / 2) << "most circles should stay visible";
+}
+
 // Every layout at every drawn size: the number of truth ellipses, all inside the frame, none
 // below the size floor; and the truth outline lies on the image's edges: the gray level changes
 // across it (1.5 px inside vs 2.5 px outside) at most points of most ellipses.

@@ -48,6 +48,8 @@ const char kScenesUsage[] =
     "  --crowded         write crowded scenes (see above)\n"
     "  --layout L        with --crowded: any (default), dots, rings, cans, caps or cups\n"
     "  --objects N       with --crowded: objects per scene, 1 <= N <= 2000 (default: drawn, 50-300)\n"
+    "  --clutter         with --crowded: bars and cables above the layout, marks on the table; the\n"
+    "                    truth keeps the circles with >= half of the rim visible\n"
     "  --size WxH        with --crowded: frame size, 64..8192 each (default: drawn per scene from\n"
     "                    640x480, 1280x720, 1920x1080); with --hard: default 640x480\n"
     "  --hard            write the hard tabletop set (see above)\n"
@@ -69,7 +71,7 @@ int RunScenes(const std::vector<std::string>& argv) {
   int count = 200;
   std::uint64_t seed = 7;
   bool conveyor = false, count_given = false;
-  bool stack = false, crossing = false, crowded = false, hard = false;
+  bool stack = false, crossing = false, crowded = false, hard = false, clutter = false;
   std::string layout_name;
   int objects = 0;
   int width = 0, height = 0;
@@ -100,6 +102,9 @@ int RunScenes(const std::vector<std::string>& argv) {
     } else if (name == "--hard") {
       r.NoValue();
       hard = true;
+    } else if (name == "--clutter") {
+      r.NoValue();
+      clutter = true;
     } else if (name == "--layout") {
       layout_name = r.Value();
     } else if (name == "--size") {
@@ -148,8 +153,8 @@ int RunScenes(const std::vector<std::string>& argv) {
   if (static_cast<int>(conveyor) + static_cast<int>(stack) + static_cast<int>(crossing) + static_cast<int>(crowded) +
           static_cast<int>(hard) > 1)
     throw UsageError("--conveyor, --stack, --crossing, --crowded and --hard exclude each other");
-  if (!crowded && (!layout_name.empty() || objects > 0 || (width > 0 && !hard)))
-    throw UsageError("--layout, --objects and --size need --crowded (--size also --hard)");
+  if (!crowded && (!layout_name.empty() || objects > 0 || clutter || (width > 0 && !hard)))
+    throw UsageError("--layout, --objects, --clutter and --size need --crowded (--size also --hard)");
   if (crossing && speed_text.empty()) speed = 0.05;
   if (!conveyor && !crossing && !speed_text.empty()) throw UsageError("--speed needs --conveyor");
   if (frames > 0 && !stack && !crossing) throw UsageError("--frames needs --stack or --crossing");
@@ -214,6 +219,7 @@ int RunScenes(const std::vector<std::string>& argv) {
   if (crowded) {
     scenes::CrowdedSceneOptions co;
     co.objects = objects;
+    co.clutter = clutter;
     co.width = width;
     co.height = height;
     if (!layout_name.empty() && !scenes::ParseCrowdedLayout(layout_name, &co.layout))

@@ -235,11 +235,98 @@ class Renderer {
       AddTruth(o.x, o.y, o.r, &scene);
       if (kind == CrowdedLayout::kRingGrid) AddTruth(o.x, o.y, o.inner, &scene);
     }
+    if (opt_.clutter) {
+      DrawClutter();
+      std::erase_if(scene.truth, [&](const ellipsekit::Ellipse& e) { return VisibleShare(e) < kClutterMinVisible; });
+    }
     Render(layout, kind, &scene.gray);
     return scene;
   }
 
  private:
+  // A bar (rotated rectangle) or a cable (a quadratic Bezier curve as a 32-segment polyline) above
+  // the layout, or a mark printed on the table (a short thin bar, drawn only where the table shows).
+  struct Shape {
+    bool cable = false, mark = false;
+    double cx = 0, cy = 0, ux = 1, uy = 0, half_length = 0, half_width = 0;  // a bar or a mark
+    std::vector<cv::Point2d> path;                                          // a cable
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;                                  // its bounding box
+    double tone = 0;
+  };
+
+  void DrawClutter() {
+    const double diag = std::hypot(W_, H_), side = std::min(W_, H_);
+    auto bar = [&](double length, double width, bool mark) {
+      Shape b;
+      b.mark = mark;
+      const double angle = rng_.Uniform(0, kPi);
+      b.cx = rng_.Uniform(0, W_);
+      b.cy = rng_.Uniform(0, H_);
+      b.ux = std::cos(angle);
+      b.uy = std::sin(angle);
+      b.half_length = 0.5 * length;
+      b.half_width = 0.5 * width;
+      b.tone = rng_.Uniform(15, 240);
+      shapes_.push_back(b);
+    };
+    for (int i = rng_.Int(1, 3); i > 0; --i) bar(rng_.Uniform(0.3, 0.8) * diag, rng_.Uniform(0.03, 0.1) * side, false);
+    for (int i = rng_.Int(0, 2); i > 0; --i) {
+      Shape c;
+      c.cable = true;
+      const cv::Point2d p0(rng_.Uniform(0, W_), rng_.Uniform(0, H_)), p1(rng_.Uniform(0, W_), rng_.Uniform(0, H_)),
+          p2(rng_.Uniform(0, W_), rng_.Uniform(0, H_));
+      for (int k = 0; k <= 32; ++k) {
+        const double t = k / 32.0;
+        c.path.push_back((1 - t) * (1 - t) * p0 + 2 * t * (1 - t) * p1 + t * t * p2);
+      }
+      c.half_width = 0.5 * rng_.Uniform(3, 10);
+      c.x0 = c.y0 = 1e300;
+      c.x1 = c.y1 = -1e300;
+      for (const cv::Point2d& q : c.path) {
+        c.x0 = std::min(c.x0, q.x - c.half_width);
+        c.y0 = std::min(c.y0, q.y - c.half_width);
+        c.x1 = std::max(c.x1, q.x + c.half_width);
+        c.y1 = std::max(c.y1, q.y + c.half_width);
+      }
+      c.tone = rng_.Uniform(10, 200);
+      shapes_.push_back(c);
+    }
+    for (int i = rng_.Int(6, 20); i > 0; --i) bar(rng_.Uniform(0.01, 0.08) * diag, rng_.Uniform(1.5, 6), true);
+  }
+
+  // The shape covering image point (u, v), topmost first (bars and cables over marks); -1: none.
+  // Marks count only where the table shows (`table`).
+  int ShapeAt(double u, double v, bool table) const {
+    for (int k = static_cast<int>(shapes_.size()) - 1; k >= 0; --k) {
+      const Shape& s = shapes_[k];
+      if (s.mark && !table) continue;
+      if (!s.cable) {
+        const double along = (u - s.cx) * s.ux + (v - s.cy) * s.uy, across = -(u - s.cx) * s.uy + (v - s.cy) * s.ux;
+        if (std::abs(along) <= s.half_length && std::abs(across) <= s.half_width) return k;
+        continue;
+      }
+      if (u < s.x0 || v < s.y0 || u > s.x1 || v > s.y1) continue;
+      for (std::size_t i = 1; i < s.path.size(); ++i) {
+        const cv::Point2d a = s.path[i - 1], d = s.path[i] - a, p(u - a.x, v - a.y);
+        const double len2 = d.dot(d);
+        const double t = len2 > 0 ? std::clamp(p.dot(d) / len2, 0.0, 1.0) : 0.0;
+        if (std::hypot(p.x - t * d.x, p.y - t * d.y) <= s.half_width) return k;
+      }
+    }
+    return -1;
+  }
+
+  // The share of 360 points on e's outline that no bar or cable hides.
+  double VisibleShare(const ellipsekit::Ellipse& e) const {
+    const double c = std::cos(e.theta), s = std::sin(e.theta);
+    int visible = 0;
+    for (int i = 0; i < 360; ++i) {
+      const double t = i * kPi / 180, x = e.a * std::cos(t), y = e.b * std::sin(t);
+      visible += ShapeAt(e.cx + c * x - s * y, e.cy + s * x + c * y, false) < 0;
+    }
+    return visible / 360.0;
+  }
+
   void DrawCamera(const Layout& layout) {
     const double tilt = rng_.Uniform(0, opt_.max_tilt_deg) * kPi / 180;
     const double extent = std::hypot(layout.max_x() - layout.min_x(), layout.max_y() - layout.min_y());
@@ -283,6 +370,15 @@ class Renderer {
     auto shade = [&](double u, double v) {
       const cv::Point2d p = Apply(H_image_, u, v);
       Sample s = layout.At(p.x, p.y);
+      if (const int k = shapes_.empty() ? -1 : ShapeAt(u, v, s.region < 0); k >= 0) {
+        const Shape& sh = shapes_[k];
+        double value = sh.tone;
+        if (!sh.cable && !sh.mark) {  // a bar is rounded: brightest along its middle
+          const double across = (-(u - sh.cx) * sh.uy + (v - sh.cy) * sh.ux) / sh.half_width;
+          value *= 0.75 + 0.25 * std::sqrt(std::max(0.0, 1 - across * across));
+        }
+        return Sample{value, kShapeRegion + k};
+      }
       if (s.region < 0) s.value = table * (1 + 0.12 * std::sin(wave * (u + 0.7 * v) + wave_phase));
       double value = s.value * (1 + gx * (u - 0.5 * W_) + gy * (v - 0.5 * H_));
       for (const Spot& g : spots) {
@@ -325,8 +421,10 @@ class Renderer {
     }
   }
 
+  static constexpr int kShapeRegion = 1 << 28;  // region ids of shapes: above every object's
   Rng rng_;
   CrowdedSceneOptions opt_;
+  std::vector<Shape> shapes_;  // CrowdedSceneOptions::clutter, in drawing order
   int W_ = 0, H_ = 0;
   cv::Matx33d H_plane_, H_image_;  // plane -> image, image -> plane
 };

@@ -13,6 +13,7 @@
 // What the truth holds: every dot; both edges of every ring (outer and inner circle); the outer rim
 // of every can, cap and cup (the lid's inner ring, groove and a cup's inner lip are edges too, but,
 // as in scene_generator.h, a top's truth is its outer rim). The whole layout lies inside the frame.
+// With CrowdedSceneOptions::clutter, bars and cables lie above the layout and hide parts of it.
 //
 // Variety per scene (all drawn from the seed): layout, frame size, rows x columns (8x6 up to 20x15
 // for the grids; 50-300 objects, fewer where the frame is too small to show them at >= 48 px
@@ -53,7 +54,14 @@ struct CrowdedSceneOptions {
   // the detector takes the outer edge for the rim of the inner one and reports one ellipse (the
   // rule for can tops, fit/clustering.h IsOuterRim).
   double min_ring_ratio = 0.45, max_ring_ratio = 0.7;
+  // Things above and beside the layout: 1-3 bars (a gripper's finger, a ruler, an arm; shaded
+  // across their width), 0-2 cables 3-10 px thick, and 6-20 printed marks (strokes, labels) on
+  // the table around the board. A circle stays in the truth when at least kClutterMinVisible of
+  // its rim (360 points) is not hidden by a bar or a cable.
+  bool clutter = false;
 };
+
+inline constexpr double kClutterMinVisible = 0.5;
 
 // Ok, or kInvalidArgument naming the bad field (size both 0 or 64..8192, objects 0..2000,
 // 0 <= max_tilt_deg <= 70, 0 <= min_semi_minor_px <= 100, 0.1 <= min_ring_ratio <= max_ring_ratio
