@@ -90,6 +90,31 @@ TEST(ImageRefit, WithoutARimInReachTheEllipseIsLeftAlone) {
   EXPECT_FALSE(ellipsekit::RefitToImage(View(gray), 0, &at_level0)) << "level 0 has its own edge refit";
 }
 
+// Whatever the ellipse (huge, degenerate, NaN, off the frame, on a 2x2 frame) and whatever the
+// image (noise), the refit returns, and what it returns is a finite ellipse.
+TEST(ImageRefit, AnyEllipseOnAnyImageReturnsAndStaysFinite) {
+  cv::Mat noise(300, 400, CV_8UC1);
+  cv::RNG rng(11);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  const cv::Mat tiny(2, 2, CV_8UC1, cv::Scalar(7));
+  const double nan = std::nan(""), inf = HUGE_VAL;
+  const Ellipse cases[] = {{200, 150, 40, 30, 0.3, 0},   {200, 150, 1e9, 1e9, 0, 0}, {200, 150, 1e-9, 1e-9, 0, 0},
+                           {200, 150, 40, 0, 0, 0},      {nan, 150, 40, 30, 0, 0},   {200, 150, inf, 30, 0, 0},
+                           {-5000, 9000, 40, 30, 0, 0},  {200, 150, 40, 30, nan, 0}, {0, 0, 3, 2, 1.0, 0}};
+  for (const cv::Mat* image : {static_cast<const cv::Mat*>(&noise), &tiny}) {
+    for (const Ellipse& c : cases) {
+      for (const int level : {1, 4}) {
+        Ellipse e = c;
+        if (ellipsekit::RefitToImage(View(*image), level, &e)) {
+          EXPECT_TRUE(std::isfinite(e.cx) && std::isfinite(e.cy) && std::isfinite(e.a) && std::isfinite(e.b) &&
+                      std::isfinite(e.theta) && e.b > 0 && e.a >= e.b)
+              << c.cx << " " << c.cy << " " << c.a << " " << c.b;
+        }
+      }
+    }
+  }
+}
+
 // Twelve tops on a 3200x2400 frame (7.7 Mpx: detected on level 1, or forced to level 2). Measured:
 // mean centre error 0.050 px mapped up from level 1 (these rims are sharp and large, and level 1's
 // own edge refit already holds them), 0.052 refitted; 0.182 and 0.024 from level 2.
