@@ -242,8 +242,9 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
   const auto t1 = Clock::now();
 
   // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
-  const int edge_pixels = TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points,
-                                      &curves, &trace, options.crowd_min_curve_points, &front.short_curves);
+  const int edge_pixels =
+      TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points, &curves, &trace,
+                  std::max(options.crowd_min_curve_points, kCrowdTriggerMinPoints), &front.short_curves);
   FilterCurvesByObb(options, &curves, &hull);
   const auto t2 = Clock::now();
 

@@ -33,6 +33,11 @@ namespace ellipsekit {
 inline constexpr int kMaxPyramidLevel = 4;
 inline constexpr int kMinPyramidSide = 64;
 
+// The crowd pass's trigger counts the short curves of at least this many points (and fewer than
+// T_n), whatever crowd_min_curve_points the pass itself traces with: the counts it was measured on
+// (docs/crowded-scenes.md); curves of 10-11 points are common in photographs' texture.
+inline constexpr int kCrowdTriggerMinPoints = 12;
+
 // An axis-aligned box, for cheap "could these two ellipses touch" tests.
 struct Box {
   double x0, y0, x1, y1;

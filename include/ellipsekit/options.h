@@ -100,7 +100,7 @@ struct Options {
   // ---- crowd pass (our addition; measured in docs/crowded-scenes.md)
   // Small outlines (semi-minor axis of a few px: dots of a calibration target, caps of a tray seen
   // from afar) are traced as curves shorter than T_n, one per gradient class. When the trace drops
-  // at least crowd_min_short_curves curves of crowd_min_curve_points to T_n - 1 points, and the
+  // at least crowd_min_short_curves curves of max(12, crowd_min_curve_points) to T_n - 1 points, and the
   // frame is a crowd (the back end found at least crowd_min_small_found ellipses of semi-minor
   // axis <= crowd_max_minor_axis, or the dropped short curves outnumber the kept ones 4 to 1), the
   // back end runs again on the edges the ellipses found so far leave unexplained, traced with
@@ -110,7 +110,7 @@ struct Options {
   // axis within a factor of 2): one of a crowd of small ellipses, not a short curve of texture.
   // Skipped on a frame whose first pass reached a cap. crowd_min_curve_points >= min_curve_points
   // turns the pass off.
-  int crowd_min_curve_points = 12;
+  int crowd_min_curve_points = 10;
   int crowd_min_short_curves = 32;
   int crowd_min_small_found = 24;
   double crowd_max_minor_axis = 20.0;
