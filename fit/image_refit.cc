@@ -26,7 +26,7 @@ constexpr int kSecondReachSteps = 2;
 constexpr int kMaxProfile = 2 * kFirstReachSteps + 1;
 // The brightness difference spans 2 h = 2^L px (h = 2 steps): the level's own pixel.
 constexpr int kSpanSteps = 2;
-constexpr int kSideLines = 1;  // lines each side of the normal's own, one span apart
+constexpr int kSideLines = 1;  // lines each side of the normal's own, kSpanSteps steps (2^(L-1) px) apart
 
 // Bilinear brightness at (x, y); the caller keeps (x, y) inside [0, w - 1] x [0, h - 1].
 double Bilinear(const ImageView& im, double x, double y) {
@@ -62,7 +62,7 @@ void FindRimPoints(const ImageView& im, const Ellipse& e, int samples, double st
     const double tx = -ny, ty = nx;
     if (x - reach < 0 || y - reach < 0 || x + reach > im.width - 1 || y + reach > im.height - 1) continue;
     // d[k]: brightness at offset (k - reach_steps + kSpanSteps) minus at (k - reach_steps - kSpanSteps)
-    // steps along the normal, summed over 2 kSideLines + 1 lines one span apart.
+    // steps along the normal, summed over 2 kSideLines + 1 parallel lines kSpanSteps steps apart.
     double d[kMaxProfile];
     for (int k = 0; k < profile; ++k) d[k] = 0;
     for (int line = -kSideLines; line <= kSideLines; ++line) {
