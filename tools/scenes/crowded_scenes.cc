@@ -252,6 +252,9 @@ class Renderer {
     std::vector<cv::Point2d> path;                                          // a cable
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;                                  // its bounding box
     double tone = 0;
+    // A bar's or a mark's frame: (u, v) along and across its axis, from its centre.
+    double Along(double u, double v) const { return (u - cx) * ux + (v - cy) * uy; }
+    double Across(double u, double v) const { return -(u - cx) * uy + (v - cy) * ux; }
   };
 
   void DrawClutter() {
@@ -301,8 +304,7 @@ class Renderer {
       const Shape& s = shapes_[k];
       if (s.mark && !table) continue;
       if (!s.cable) {
-        const double along = (u - s.cx) * s.ux + (v - s.cy) * s.uy, across = -(u - s.cx) * s.uy + (v - s.cy) * s.ux;
-        if (std::abs(along) <= s.half_length && std::abs(across) <= s.half_width) return k;
+        if (std::abs(s.Along(u, v)) <= s.half_length && std::abs(s.Across(u, v)) <= s.half_width) return k;
         continue;
       }
       if (u < s.x0 || v < s.y0 || u > s.x1 || v > s.y1) continue;
@@ -374,7 +376,7 @@ class Renderer {
         const Shape& sh = shapes_[k];
         double value = sh.tone;
         if (!sh.cable && !sh.mark) {  // a bar is rounded: brightest along its middle
-          const double across = (-(u - sh.cx) * sh.uy + (v - sh.cy) * sh.ux) / sh.half_width;
+          const double across = sh.Across(u, v) / sh.half_width;
           value *= 0.75 + 0.25 * std::sqrt(std::max(0.0, 1 - across * across));
         }
         return Sample{value, kShapeRegion + k};
