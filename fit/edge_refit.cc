@@ -1,6 +1,9 @@
 #include "fit/edge_refit.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <numbers>
 
 #include "fit/arc.h"
 #include "fit/clustering.h"
@@ -26,6 +29,25 @@ bool FitToEdgesNear(const EdgeMapView& in, double distance, EdgeRefitScratch* sc
   points.moments = MomentsOfPoints(scratch->x.data(), scratch->y.data(), 0, n - 1, scratch->x[0], scratch->y[0]);
   const Arc* group[1] = {&points};
   return RefineEllipse(group, 1, e);
+}
+
+bool FitToEdgesNearRounds(const EdgeMapView& in, double distance, int rounds, EdgeRefitScratch* scratch, Ellipse* e,
+                          long* scanned_pixels) {
+  const double frame = static_cast<double>(in.width) * in.height;
+  for (int k = 0; k < rounds; ++k) {
+    *scanned_pixels += static_cast<long>(std::min(frame, 2 * std::numbers::pi * std::max(e->a, e->b) * (2 * distance + 2)));
+    if (!FitToEdgesNear(in, distance, scratch, e)) return false;
+  }
+  return true;
+}
+
+void MinorAxisUp(const Ellipse& e, double* ux, double* uy) {
+  *ux = -std::sin(e.theta);
+  *uy = std::cos(e.theta);
+  if (*uy > 0) {
+    *ux = -*ux;
+    *uy = -*uy;
+  }
 }
 
 bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch) {

@@ -38,4 +38,15 @@ bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch);
 // give no ellipse. Also the recessed-rim search's step (fit/recessed_rim.h).
 bool FitToEdgesNear(const EdgeMapView& in, double distance, EdgeRefitScratch* scratch, Ellipse* e);
 
+// FitToEdgesNear `rounds` times (the searches around a detection: fit/recessed_rim.h,
+// fit/top_over_side.h); false at the first round that fails. *scanned_pixels grows by a bound on
+// the pixels each round reads: the outline's length (at most 2 pi max(a, b)) times the band's
+// width (2 distance + 2 px), never more than the frame.
+bool FitToEdgesNearRounds(const EdgeMapView& in, double distance, int rounds, EdgeRefitScratch* scratch, Ellipse* e,
+                          long* scanned_pixels);
+
+// The unit vector along e's minor axis that points up in the image (y down): toward a top's far
+// arc when the camera looks down on it.
+void MinorAxisUp(const Ellipse& e, double* ux, double* uy);
+
 }  // namespace ellipsekit

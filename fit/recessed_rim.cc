@@ -1,8 +1,6 @@
 #include "fit/recessed_rim.h"
 
-#include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "fit/edge_coverage.h"
 
@@ -11,23 +9,12 @@ namespace ellipsekit {
 namespace {
 constexpr int kRefits = 3;
 constexpr double kBandPx = 2.0;  // FitToEdgesNear's distance for each refit
-
-// The unit minor axis of an ellipse turned by (c, s) = (cos theta, sin theta), pointing up in the
-// image (y down).
-void MinorAxisUp(double c, double s, double* ux, double* uy) {
-  *ux = -s;
-  *uy = c;
-  if (*uy > 0) {
-    *ux = -*ux;
-    *uy = -*uy;
-  }
-}
 }  // namespace
 
 bool IsRecessedRimOf(const Ellipse& rim, const Ellipse& lid) {
   const double c = std::cos(lid.theta), s = std::sin(lid.theta);
   double ux, uy;
-  MinorAxisUp(c, s, &ux, &uy);
+  MinorAxisUp(lid, &ux, &uy);
   const double up = (rim.cx - lid.cx) * ux + (rim.cy - lid.cy) * uy;
   const double across = std::abs((rim.cx - lid.cx) * c + (rim.cy - lid.cy) * s);
   const double ka = rim.a / lid.a, kb = rim.b / lid.b;
@@ -39,20 +26,14 @@ bool FindRecessedRim(const EdgeMapView& in, const Ellipse& lid, EdgeRefitScratch
                      long* scanned_pixels) {
   *scanned_pixels = 0;
   double ux, uy;
-  MinorAxisUp(std::cos(lid.theta), std::sin(lid.theta), &ux, &uy);
+  MinorAxisUp(lid, &ux, &uy);
   Ellipse g = lid;
   g.cx += kRecessedRimUp * lid.b * ux;
   g.cy += kRecessedRimUp * lid.b * uy;
   g.a *= kRecessedRimA;
   g.b *= kRecessedRimB;
   if (FineEdgeCoverage(in, g, kRecessedRimGuessShare) <= kRecessedRimGuessShare) return false;
-  const double frame = static_cast<double>(in.width) * in.height;
-  for (int k = 0; k < kRefits; ++k) {
-    // The band EdgePointsNear reads: the outline's length (at most 2 pi max(a, b)) times its width
-    // (2 kBandPx + 2 px), never more than the frame.
-    *scanned_pixels += static_cast<long>(std::min(frame, 2 * std::numbers::pi * std::max(g.a, g.b) * (2 * kBandPx + 2)));
-    if (!FitToEdgesNear(in, kBandPx, scratch, &g)) return false;
-  }
+  if (!FitToEdgesNearRounds(in, kBandPx, kRefits, scratch, &g, scanned_pixels)) return false;
   if (!IsRecessedRimOf(g, lid)) return false;
   if (FineEdgeCoverage(in, g, kRecessedRimMinShare) < kRecessedRimMinShare) return false;
   *rim = g;

@@ -11,6 +11,7 @@
 #include "fit/edge_coverage.h"
 #include "fit/recessed_rim.h"
 #include "fit/rim_search.h"
+#include "fit/top_over_side.h"
 #include "runtime/detector_impl.h"
 
 namespace ellipsekit {
@@ -109,6 +110,16 @@ class NeighbourContacts final : public RimContacts {
 
 }  // namespace
 
+// Whether another of candidates[0, kept) lies inside candidates[i] (bounding boxes).
+bool Detector::Impl::HoldsAnother(int i, int kept) const {
+  const Box own = BoundingBox(candidates[i].ellipse, 0);
+  for (int j = 0; j < kept; ++j) {
+    const Box b = BoundingBox(candidates[j].ellipse, 0);
+    if (j != i && b.x0 > own.x0 && b.y0 > own.y0 && b.x1 < own.x1 && b.y1 < own.y1) return true;
+  }
+  return false;
+}
+
 // Outer-rim completion (fit/rim_search.h) of candidates[0, kept), best first, within a budget of
 // two frames' worth of scanned pixels (kCapRimSearch when it runs out).
 void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
@@ -133,6 +144,18 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     }
     Ellipse rim;
     long scanned = 0;
+    // Options::top_over_side: a fit through the top's far arc and its side's lower edge holds the
+    // top inside it, which replaces it (unless detected already); the outer-rim search below then
+    // runs around the top (a can's lid found this way still gets its rim). Not when another kept
+    // ellipse lies inside (a ring's or a cup's inner rim, whose near arc with the outer one's far
+    // arc makes such a flatter ellipse).
+    if (options.top_over_side) {
+      const bool found = FindTopOverSide(in, c.ellipse, &refit_scratch, &rim, &scanned);
+      budget -= scanned;
+      bool detected = false;
+      for (int j = 0; j < kept && found && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
+      if (found && !detected && !HoldsAnother(i, kept)) c.ellipse = rim;
+    }
     const NeighbourContacts contacts(candidates, kept, boxes, i);
     bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned, &contacts);
     budget -= scanned;

@@ -131,6 +131,7 @@ struct Detector::Impl {
     double total_ms = 0, edges_ms = 0, curves_ms = 0, arcs_ms = 0;
   } front;
   void CompleteOuterRims(int kept, GroupStats* stats);  // detector_checks.cc
+  bool HoldsAnother(int i, int kept) const;             // detector_checks.cc
   int KeepExclusivelySupported(int kept);              // detector_checks.cc
   int DropStriped(int kept);                           // detector_checks.cc
   void AddCrowdPass(DetectionResult* result);  // detector_crowd.cc

@@ -1,5 +1,6 @@
 // The edge-map checks of the fit back end on synthetic edge maps with known rings: outer-rim
-// completion (fit/rim_search.h), also end to end through the Detector on a drawn lid whose outer
+// completion (fit/rim_search.h), the recessed rim and the top over a side (fit/recessed_rim.h,
+// fit/top_over_side.h), also end to end through the Detector on a drawn lid whose outer
 // rim has contrast over only part of its length, and edge coverage, claims and fine coverage
 // (fit/edge_coverage.h).
 #include <gtest/gtest.h>
@@ -19,6 +20,7 @@
 #include "fit/edge_refit.h"
 #include "fit/recessed_rim.h"
 #include "fit/rim_search.h"
+#include "fit/top_over_side.h"
 
 namespace {
 
@@ -330,6 +332,62 @@ TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
   below.Ring(lid, 1.0, 0, kTwoPi);
   below.Ring(rim_at(-0.2), 1.0, 0, kTwoPi);
   EXPECT_FALSE(ellipsekit::FindRecessedRim(below.Input(), lid, &scratch, &found, &scanned));
+}
+
+// A lid's top rim (backed all round, as Canny finds its weak near arc) and the lower edge of the
+// lid's side, h px below its near arc; the detection is the fit through the rim's far arc and that
+// lower edge (wider, as measured on jars). The top inside it is found; not without its near arc,
+// not when the inner ellipse is a concentric ring (a cup's inner rim), not among stripes.
+TEST(TopOverSide, FindsTheTopInsideAFitThroughItsSide) {
+  Ellipse top = Inner();
+  top.b = 14;
+  top.theta = 0.08;
+  const double h = 9;  // the lid's side, px
+  Ellipse side_bottom = top;
+  side_bottom.cx -= h * std::sin(top.theta);
+  side_bottom.cy += h * std::cos(top.theta);
+  Ellipse fit = top;
+  fit.cx = 0.5 * (top.cx + side_bottom.cx);
+  fit.cy = 0.5 * (top.cy + side_bottom.cy);
+  fit.a *= 1.08;
+  fit.b += h / 2;
+  const double pi = std::numbers::pi;
+  ellipsekit::EdgeRefitScratch scratch;
+  scratch.Reserve(kW, kH);
+  Ellipse found;
+  long scanned = 0;
+
+  EdgeFrame jar;
+  jar.Ring(top, 1.0, 0, kTwoPi);
+  jar.Ring(side_bottom, 1.0, 0, pi);  // the near half (y down: sin t > 0)
+  ASSERT_TRUE(ellipsekit::FindTopOverSide(jar.Input(), fit, &scratch, &found, &scanned));
+  EXPECT_GT(scanned, 0);
+  EXPECT_LE(scanned, 3L * kW * kH);
+  EXPECT_NEAR(found.cx, top.cx, 0.5);
+  EXPECT_NEAR(found.cy, top.cy, 0.5);
+  EXPECT_NEAR(found.a, top.a, 0.5);
+  EXPECT_NEAR(found.b, top.b, 0.5);
+  EXPECT_EQ(found.score, fit.score);
+  EXPECT_TRUE(ellipsekit::IsTopOverSide(found, fit));
+
+  EdgeFrame no_near_arc;
+  no_near_arc.Ring(top, 1.0, pi, kTwoPi);
+  no_near_arc.Ring(side_bottom, 1.0, 0, pi);
+  EXPECT_FALSE(ellipsekit::FindTopOverSide(no_near_arc.Input(), fit, &scratch, &found, &scanned));
+
+  EdgeFrame cup;  // outer rim and a concentric inner one
+  cup.Ring(fit, 1.0, 0, kTwoPi);
+  cup.Ring(fit, 0.88, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindTopOverSide(cup.Input(), fit, &scratch, &found, &scanned));
+
+  EdgeFrame grain = jar;  // the top among rings of opposite gradient 3 px inside and outside
+  for (double d : {-3.0, 3.0}) {
+    Ellipse ring = top;
+    ring.a += d;
+    ring.b += d;
+    grain.Ring(ring, 1.0, 0, kTwoPi, pi);
+  }
+  EXPECT_FALSE(ellipsekit::FindTopOverSide(grain.Input(), fit, &scratch, &found, &scanned));
 }
 
 // Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;
