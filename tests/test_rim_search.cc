@@ -295,6 +295,18 @@ TEST(RimSearch, ContactsExplainTheGapsOfATouchingRim) {
 // A recessed lid's rim (fit/recessed_rim.h): wider along b than along a and centred higher than
 // the lid's outline; found from the lid, close to where it was drawn. Not found when nothing is
 // drawn there, nor when the only larger ellipse lies lower than the lid (no rim sits so).
+// A search around a detection (recessed rim, top over a side) found `want` within 0.5 px, kept the
+// detection's score, and reported a bounded, non-zero scan.
+void ExpectSearchFound(const Ellipse& found, const Ellipse& want, double score, long scanned) {
+  EXPECT_GT(scanned, 0);
+  EXPECT_LE(scanned, 3L * kW * kH);
+  EXPECT_NEAR(found.cx, want.cx, 0.5);
+  EXPECT_NEAR(found.cy, want.cy, 0.5);
+  EXPECT_NEAR(found.a, want.a, 0.5);
+  EXPECT_NEAR(found.b, want.b, 0.5);
+  EXPECT_EQ(found.score, score);
+}
+
 TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
   Ellipse lid = Inner();
   lid.theta = 0.1;
@@ -316,13 +328,7 @@ TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
   f.Ring(rim, 1.0, 0, kTwoPi);
   long scanned = 0;
   ASSERT_TRUE(ellipsekit::FindRecessedRim(f.Input(), lid, &scratch, &found, &scanned));
-  EXPECT_GT(scanned, 0);
-  EXPECT_LE(scanned, 3L * kW * kH);
-  EXPECT_NEAR(found.cx, rim.cx, 0.5);
-  EXPECT_NEAR(found.cy, rim.cy, 0.5);
-  EXPECT_NEAR(found.a, rim.a, 0.5);
-  EXPECT_NEAR(found.b, rim.b, 0.5);
-  EXPECT_EQ(found.score, lid.score);
+  ExpectSearchFound(found, rim, lid.score, scanned);
 
   EdgeFrame alone;
   alone.Ring(lid, 1.0, 0, kTwoPi);
@@ -361,13 +367,7 @@ TEST(TopOverSide, FindsTheTopInsideAFitThroughItsSide) {
   jar.Ring(top, 1.0, 0, kTwoPi);
   jar.Ring(side_bottom, 1.0, 0, pi);  // the near half (y down: sin t > 0)
   ASSERT_TRUE(ellipsekit::FindTopOverSide(jar.Input(), fit, &scratch, &found, &scanned));
-  EXPECT_GT(scanned, 0);
-  EXPECT_LE(scanned, 3L * kW * kH);
-  EXPECT_NEAR(found.cx, top.cx, 0.5);
-  EXPECT_NEAR(found.cy, top.cy, 0.5);
-  EXPECT_NEAR(found.a, top.a, 0.5);
-  EXPECT_NEAR(found.b, top.b, 0.5);
-  EXPECT_EQ(found.score, fit.score);
+  ExpectSearchFound(found, top, fit.score, scanned);
   EXPECT_TRUE(ellipsekit::IsTopOverSide(found, fit));
 
   EdgeFrame no_near_arc;
