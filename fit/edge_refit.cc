@@ -50,13 +50,14 @@ void MinorAxisUp(const Ellipse& e, double* ux, double* uy) {
   }
 }
 
-bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch) {
-  const double share = FineEdgeCoverage(in, *e);
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double known_share) {
+  const double share = known_share >= 0 ? known_share : FineEdgeCoverage(in, *e);
   if (share < kEdgeRefitMinShare) return false;
   Ellipse refit = *e;
   if (!FitToEdgesNear(in, kEdgeRefitDistance, scratch, &refit)) return false;
   if (!(FeatureDistance(refit, *e) < 0.2 * e->b + 1)) return false;
-  if (FineEdgeCoverage(in, refit) < share) return false;
+  // Stops once it cannot reach share (returning less than share).
+  if (FineEdgeCoverage(in, refit, share - 1.0 / 64) < share) return false;
   *e = refit;
   return true;
 }

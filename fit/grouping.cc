@@ -170,10 +170,16 @@ bool OppositePositionHolds(const Arc& upper, const Arc& lower) {
 
 // A two-arc candidate (Options::pair_candidates): refitted, then Gamma, K and psi as for triplets.
 // False when the group fails; true with *e set otherwise.
-bool PairCandidate(const Curves& curves, const Arc& first, const Arc& second, const Options& options, Ellipse* e) {
+// `fit`: the two arcs' RefineEllipse, when already made (a pair of FindCandidates).
+bool PairCandidate(const Curves& curves, const Arc& first, const Arc& second, const Options& options,
+                   const Ellipse* fit, Ellipse* e) {
   const Arc* group[2] = {&first, &second};
   if (SpanFailsLengthRatio(group, 2, options.length_ratio)) return false;
-  if (!RefineEllipse(group, 2, e)) return false;
+  if (fit != nullptr) {
+    *e = *fit;
+  } else if (!RefineEllipse(group, 2, e)) {
+    return false;
+  }
   if (!(DistanceRatio(group, 2, Eigen::Vector2d(e->cx, e->cy)) < options.distance_ratio)) return false;
   return Validate(curves, group, 2, /*refined=*/true, options, e);
 }
@@ -222,6 +228,15 @@ void SpreadOverFrame(const std::vector<Arc>& arcs, GroupScratch* s) {
   });
 }
 
+// T_c (sec. II-C-1): the two pairs' centres lie within sqrt(tc2) px, by eqs. 3-7 or, where both
+// pairs were fitted (Options::fit_pair_centers) to ellipses with b >= 1 px, by their fits.
+bool CentresAgree(const GroupScratch::Pair& ab, const GroupScratch::Pair& bc, double tc2) {
+  if ((ab.center - bc.center).squaredNorm() < tc2) return true;
+  if (!ab.fitted || !bc.fitted || !(ab.fit.b >= 1) || !(bc.fit.b >= 1)) return false;
+  const double dx = ab.fit.cx - bc.fit.cx, dy = ab.fit.cy - bc.fit.cy;
+  return dx * dx + dy * dy < tc2;
+}
+
 // Triplets: (a, b) and (b, c) share the middle arc b; each middle arc's pairs are listed nearest
 // first. The budget max_triplets is spread over the frame, never spent in scan order: first each
 // middle arc, in the spread order (SpreadOverFrame), examines at most an equal share of it; then the
@@ -244,7 +259,7 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
       for (int v = s->as_prev_offset[b]; v < s->as_prev_offset[b + 1]; ++v) {
         const GroupScratch::Pair& bc = s->pairs[s->as_prev[v]];
         if (ab.prev == bc.next) continue;
-        if ((ab.center - bc.center).squaredNorm() >= tc2) continue;
+        if (!CentresAgree(ab, bc, tc2)) continue;
         if (seen++ < s->done[b]) continue;
         if (retire && s->retired[ab.prev] + s->retired[b] + s->retired[bc.next] >= 2) {
           ++s->done[b];
@@ -325,14 +340,17 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
 void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                        GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   int examined = 0;
-  auto add = [&](int first, int second) {
+  // fitted: a pair of FindCandidates fitted already (Options::fit_pair_centers), whose fit is the
+  // candidate's; none when that fit failed.
+  auto add = [&](int first, int second, const GroupScratch::Pair* fitted) {
     if (examined >= options.max_pairs) {
       stats->caps_hit |= kCapPairs;
       return false;
     }
     ++examined;
+    if (fitted != nullptr && !fitted->fitted) return true;
     Ellipse e;
-    if (!PairCandidate(curves, arcs[first], arcs[second], options, &e)) return true;
+    if (!PairCandidate(curves, arcs[first], arcs[second], options, fitted ? &fitted->fit : nullptr, &e)) return true;
     if (static_cast<int>(candidates->size()) >= options.max_candidates) {
       stats->caps_hit |= kCapCandidates;
       return false;
@@ -341,7 +359,8 @@ void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const
     return true;
   };
   for (const GroupScratch::Pair& p : s->pairs) {
-    if (MidPointsNear(arcs[p.prev], arcs[p.next]) && !add(p.prev, p.next)) return;
+    if (MidPointsNear(arcs[p.prev], arcs[p.next]) && !add(p.prev, p.next, options.fit_pair_centers ? &p : nullptr))
+      return;
   }
   // Mid-points within kPairMidDistance arc sizes put the ends within (kPairMidDistance + 2 sqrt 2)
   // of them (an end lies within a bounding-box diagonal of the mid-point): the index finds a
@@ -360,7 +379,7 @@ void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const
       }
       ++kept;
       ++stats->pairs;
-      go_on = add(i, j);
+      go_on = add(i, j, nullptr);
     });
     if (!go_on) return;
   }
@@ -404,6 +423,7 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
   // and is shared evenly by the four kinds, so a capped frame still has pairs of every kind.
   s->pairs.clear();
   const int per_kind = std::max(1, options.max_pairs / 4);
+  const bool fit_pairs = options.fit_pair_centers && options.refine_fit;
   for (int q = 1; q <= 4; ++q) {
     int kept = 0;
     ForEachNearPair(arcs, s, q, NextQuadrant(q), options.pair_reach,
@@ -413,9 +433,13 @@ void FindCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Op
         stats->caps_hit |= kCapPairs;
         return;
       }
-      Eigen::Vector2d c;
-      if (PairCenter(arcs[i], arcs[j], options.center_method, &c)) {
-        s->pairs.push_back({i, j, c, gap});
+      GroupScratch::Pair p{i, j, Eigen::Vector2d::Zero(), gap, false, Ellipse{}};
+      if (PairCenter(arcs[i], arcs[j], options.center_method, &p.center)) {
+        if (fit_pairs) {
+          const Arc* group[2] = {&arcs[i], &arcs[j]};
+          p.fitted = RefineEllipse(group, 2, &p.fit);
+        }
+        s->pairs.push_back(p);
         ++kept;
       }
     });

@@ -41,8 +41,12 @@ std::size_t ReserveFor(int cap);
 struct GroupScratch {
   struct Pair {
     int prev, next;  // arc indices; prev is the earlier quadrant counter-clockwise
-    Eigen::Vector2d center;
+    Eigen::Vector2d center;  // eqs. 3-7 (Options::center_method)
     double gap;      // ArcEndIndex::EndDistance of the two arcs, px
+    // Options::fit_pair_centers: the two arcs' conic fit (RefineEllipse; `fitted` when it gave an
+    // ellipse), whose centre T_c may compare too; the pair's two-arc candidate starts from it.
+    bool fitted = false;
+    Ellipse fit;
   };
   std::vector<int> by_quadrant[5];
   std::vector<Pair> pairs;

@@ -68,7 +68,7 @@ void EditOptionMore(int field, int v, Options* o) {
     case 11: o->crowd_min_curve_points = v; o->crowd_min_short_curves = v >> 4; break;  // < 3 refused
     case 12: o->crowd_min_small_found = v; o->crowd_min_similar = v >> 4; o->crowd_max_minor_axis = v / 16.0; break;
     case 9: o->pair_reach = v / 64.0; break;  // <= 0 is refused; large values reach every arc
-    case 10: o->retire_found_arcs = (v & 1) != 0; break;
+    case 10: o->retire_found_arcs = (v & 1) != 0; o->fit_pair_centers = (v & 2) != 0; break;
     case 0: o->pair_candidates = (v & 1) != 0; o->pair_min_edge_coverage = (v >> 1) / 1000.0; break;
     case 1: o->min_edge_coverage = p; break;
     case 2: o->min_exclusive_coverage = p; break;

@@ -34,6 +34,10 @@ Status Invalid(const std::string& what) { return {StatusCode::kInvalidArgument, 
 
 bool Finite(double v) { return std::isfinite(v); }
 
+bool SameGeometry(const Ellipse& u, const Ellipse& v) {
+  return u.cx == v.cx && u.cy == v.cy && u.a == v.a && u.b == v.b && u.theta == v.theta;
+}
+
 }  // namespace
 
 std::size_t ReserveFor(int cap) {
@@ -302,7 +306,13 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   kept = KeepExclusivelySupported(kept);
   kept = DropStriped(kept);
   if (options.refit_to_edges) {
-    for (int i = 0; i < kept; ++i) RefitToEdges(EdgeView(), &candidates[i].ellipse, &refit_scratch);
+    for (int i = 0; i < kept; ++i) {
+      // The clustering measured its best fit's FineEdgeCoverage; still this cluster's ellipse
+      // unless a rim or a top over a side replaced it.
+      const Candidate& c = candidates[i];
+      const bool same = SameGeometry(c.ellipse, c.best_fit);
+      RefitToEdges(EdgeView(), &candidates[i].ellipse, &refit_scratch, same ? c.best_fit_share : -1);
+    }
   }
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
