@@ -45,6 +45,7 @@ class Detector:
         crowd_max_minor_axis: float = ...,
         crowd_min_similar: int = ...,
         center_method: Literal["longest_chords", "arc_chords"] = ...,
+        fit_pair_centers: bool = ...,
         pair_reach: float = ...,
         retire_found_arcs: bool = ...,
         center_distance: float = ...,
