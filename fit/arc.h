@@ -42,6 +42,9 @@ struct Candidate {
   double best_fit_share = -1;
   int fit_tries = 0;
 
+  // A triplet that passed T_c only by its pairs' own fits (Options::fit_pair_centers).
+  bool centres_by_fit = false;
+
   bool FromPair() const { return arcs[2] < 0; }  // a two-arc group (Options::pair_candidates)
 };
 

@@ -228,10 +228,9 @@ void SpreadOverFrame(const std::vector<Arc>& arcs, GroupScratch* s) {
   });
 }
 
-// T_c (sec. II-C-1): the two pairs' centres lie within sqrt(tc2) px, by eqs. 3-7 or, where both
-// pairs were fitted (Options::fit_pair_centers) to ellipses with b >= 1 px, by their fits.
-bool CentresAgree(const GroupScratch::Pair& ab, const GroupScratch::Pair& bc, double tc2) {
-  if ((ab.center - bc.center).squaredNorm() < tc2) return true;
+// T_c (sec. II-C-1) by the fits: both pairs were fitted (Options::fit_pair_centers) to ellipses
+// with b >= 1 px whose centres lie within sqrt(tc2) px.
+bool FitCentresAgree(const GroupScratch::Pair& ab, const GroupScratch::Pair& bc, double tc2) {
   if (!ab.fitted || !bc.fitted || !(ab.fit.b >= 1) || !(bc.fit.b >= 1)) return false;
   const double dx = ab.fit.cx - bc.fit.cx, dy = ab.fit.cy - bc.fit.cy;
   return dx * dx + dy * dy < tc2;
@@ -259,7 +258,9 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
       for (int v = s->as_prev_offset[b]; v < s->as_prev_offset[b + 1]; ++v) {
         const GroupScratch::Pair& bc = s->pairs[s->as_prev[v]];
         if (ab.prev == bc.next) continue;
-        if (!CentresAgree(ab, bc, tc2)) continue;
+        // T_c by eqs. 3-7, else by the pairs' fits (Candidate::centres_by_fit).
+        const bool by_fit = (ab.center - bc.center).squaredNorm() >= tc2;
+        if (by_fit && !FitCentresAgree(ab, bc, tc2)) continue;
         if (seen++ < s->done[b]) continue;
         if (retire && s->retired[ab.prev] + s->retired[b] + s->retired[bc.next] >= 2) {
           ++s->done[b];
@@ -293,6 +294,7 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
           return true;
         }
         candidates->push_back(MakeCandidate(e, ab.prev, b, bc.next));
+        candidates->back().centres_by_fit = by_fit;
         if (retire) s->retired[ab.prev] = s->retired[b] = s->retired[bc.next] = 1;
       }
     }

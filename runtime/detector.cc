@@ -131,14 +131,16 @@ Status ValidateImage(const ImageView& image, const Options& options) {
   return Status::Ok();
 }
 
-// Options::min_edge_coverage (pair_min_edge_coverage for two-arc candidates) as the clustering's
-// check, and FineEdgeCoverage as its ranking of a cluster's members.
+// Options::min_edge_coverage (pair_min_edge_coverage for two-arc candidates, at least
+// kCentresByFitMinEdgeCoverage for a triplet found by its pairs' fits) as the clustering's check,
+// and FineEdgeCoverage as its ranking of a cluster's members.
 class CoverageCheck final : public CandidateCheck {
  public:
   CoverageCheck(const EdgeMapView& view, const Options& options) : view_(view), options_(options) {}
   bool Passes(const Candidate& c) const override {
     double min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
     if (min_share <= 0) return true;
+    if (c.centres_by_fit) min_share = std::max(min_share, kCentresByFitMinEdgeCoverage);
     // Options::frame_cut_min_inside: an outline that runs out of the frame is held to the share
     // over its part inside.
     if (options_.frame_cut_min_inside < 1) {

@@ -24,7 +24,7 @@ shift $(( $# < 2 ? $# : 2 ))
 command -v valgrind >/dev/null || { echo "count-instructions: valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
 [[ -x "$binary" ]] || { echo "count-instructions: $binary is not an executable (build first: scripts/test.sh)" >&2; exit 1; }
 
-hwy=$(ldd "$binary" | awk '/libhwy\.so/ {print $3; exit}')
+hwy=$(ldd "$binary" | awk '/libhwy\.so/ && !found {print $3; found = 1}')
 [[ -n "$hwy" ]] || { echo "count-instructions: $binary does not load libhwy" >&2; exit 1; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -39,5 +39,5 @@ images=(../shared/datasets/*/images/*)
 LD_LIBRARY_PATH="$tmp" ELLIPSEKIT_HWY_TARGET=AVX2 valgrind --tool=callgrind --callgrind-out-file=out/callgrind.out \
   "$binary" detect --repeat "$repeat" "$@" "${images[@]}" >/dev/null 2>"$tmp/valgrind.log" ||
   { cat "$tmp/valgrind.log" >&2; exit 1; }
-count=$(callgrind_annotate --inclusive=yes out/callgrind.out | awk '/ellipsekit::Detector::detect\(/ {gsub(",", "", $1); print $1; exit}')
+count=$(callgrind_annotate --inclusive=yes out/callgrind.out | awk '/ellipsekit::Detector::detect\(/ && !found {gsub(",", "", $1); print $1; found = 1}')
 echo "detect() instructions over ${#images[@]} images x $((repeat + 1)) calls: $count (out/callgrind.out)"

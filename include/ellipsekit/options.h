@@ -120,12 +120,14 @@ struct Options {
   CenterMethod center_method = CenterMethod::kLongestChords;
   // Our addition (needs refine_fit): each pair of arcs is also fitted as a conic (the refit of
   // conic_refine.h), and a triplet passes T_c when its two pairs' centres agree by eqs. 3-7 or
-  // by those fits (ellipses with b >= 1 px). With the refit, T_c only chooses which triplets are
-  // fitted; the chord centres of short arcs rest on end tangents from a few gradients and scatter
-  // by tens of px, so T_c turned true triplets away. The fit serves the pair's two-arc candidate
-  // too. Measured (`ellipsekit eval`, correct / detected, off -> on): su2019_coin 64 / 79 -> 69 /
-  // 81, edcircles_mini 35 / 36 -> 36 / 38, hard tabletop seed 1 690 / 796 -> 708 / 825; details
-  // in docs/detection.md.
+  // by those fits (ellipses with b >= 1 px); one that passes by the fits alone must then be
+  // backed by edges over 0.8 of its outline (fit/grouping.h kCentresByFitMinEdgeCoverage). With
+  // the refit, T_c only chooses which triplets are fitted; the chord centres of short arcs rest
+  // on end tangents from a few gradients and scatter by tens of px, so T_c turned true triplets
+  // away. The fit serves the pair's two-arc candidate too. Measured (`ellipsekit eval`, correct /
+  // detected, off -> on): su2019_coin 64 / 79 -> 67 / 78, hard tabletop seed 1 690 / 796 -> 698 /
+  // 810, clutter seed 1 6946 -> 6960 correct, every other set within one detection; details in
+  // docs/detection.md.
   bool fit_pair_centers = true;
   // Our addition: two arcs of consecutive quadrants are paired only when an end of one lies within
   // pair_reach times the larger arc's size (its bounding box's longer side) of an end of the other,
