@@ -342,17 +342,17 @@ bool AddTripletCandidates(const Curves& curves, const std::vector<Arc>& arcs, co
 void AddPairCandidates(const Curves& curves, const std::vector<Arc>& arcs, const Options& options,
                        GroupScratch* s, std::vector<Candidate>* candidates, GroupStats* stats) {
   int examined = 0;
-  // fitted: a pair of FindCandidates fitted already (Options::fit_pair_centers), whose fit is the
-  // candidate's; none when that fit failed.
-  auto add = [&](int first, int second, const GroupScratch::Pair* fitted) {
+  // pair: one of FindCandidates' pairs, fitted already (Options::fit_pair_centers): its fit is
+  // the candidate's, and there is none when that fit failed. nullptr: fitted here.
+  auto add = [&](int first, int second, const GroupScratch::Pair* pair) {
     if (examined >= options.max_pairs) {
       stats->caps_hit |= kCapPairs;
       return false;
     }
     ++examined;
-    if (fitted != nullptr && !fitted->fitted) return true;
+    if (pair != nullptr && !pair->fitted) return true;
     Ellipse e;
-    if (!PairCandidate(curves, arcs[first], arcs[second], options, fitted ? &fitted->fit : nullptr, &e)) return true;
+    if (!PairCandidate(curves, arcs[first], arcs[second], options, pair ? &pair->fit : nullptr, &e)) return true;
     if (static_cast<int>(candidates->size()) >= options.max_candidates) {
       stats->caps_hit |= kCapCandidates;
       return false;

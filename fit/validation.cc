@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 
 namespace ellipsekit {
 
@@ -26,36 +25,28 @@ double CircumferenceRatio(const Curves& curves, const Arc* const* arcs, int coun
   const double n = static_cast<double>(total);
   long outliers = 0;
   // psi <= (total - outliers) / total, and so is its rounded value (division by the same n is
-  // monotone): once that is <= min_ratio, psi > min_ratio cannot hold. Checked after every block
-  // of kBlock points, so a bad fit stops after a tenth or so of its points (min_ratio 0.9)
-  // instead of after its first arc; the value returned for a passing fit is unchanged. Each block
-  // is counted without a branch per point, which the compiler vectorises (the same operations per
-  // point as one at a time, so the same counts).
+  // monotone): once that is <= min_ratio, psi > min_ratio cannot hold. Checked before every block
+  // of kBlock points (not by a modulo per point), so a bad fit stops after a tenth or so of its
+  // points (min_ratio 0.9) instead of after its first arc; the value returned for a passing fit is
+  // unchanged.
   constexpr int kBlock = 32;
-  const std::int32_t* xs = curves.x.data();
-  const std::int32_t* ys = curves.y.data();
   for (int i = 0; i < count; ++i) {
     for (int from = arcs[i]->begin; from <= arcs[i]->end; from += kBlock) {
       if (static_cast<double>(total - outliers) / n <= min_ratio) return static_cast<double>(total - outliers) / n;
       const int to = std::min(from + kBlock - 1, arcs[i]->end);
-      int block_outliers = 0;
-      if (rule == InlierRule::kPixel) {
-        for (int p = from; p <= to; ++p) {
-          const double dx = xs[p] - e.cx, dy = ys[p] - e.cy;
-          const double xo = dx * c + dy * s, yo = dy * c - dx * s;  // eq. 14
-          const double f = xo * xo * ia2 + yo * yo * ib2 - 1.0;
+      for (int p = from; p <= to; ++p) {
+        const double dx = curves.x[p] - e.cx, dy = curves.y[p] - e.cy;
+        const double xo = dx * c + dy * s, yo = dy * c - dx * s;  // eq. 14
+        const double f = xo * xo * ia2 + yo * yo * ib2 - 1.0;
+        bool inlier;
+        if (rule == InlierRule::kPixel) {
           const double u = xo * ia2, v = yo * ib2;
-          block_outliers += !(f * f < four_t2 * (u * u + v * v));
+          inlier = f * f < four_t2 * (u * u + v * v);
+        } else {
+          inlier = std::abs(f) < threshold;  // eq. 15
         }
-      } else {
-        for (int p = from; p <= to; ++p) {
-          const double dx = xs[p] - e.cx, dy = ys[p] - e.cy;
-          const double xo = dx * c + dy * s, yo = dy * c - dx * s;  // eq. 14
-          const double f = xo * xo * ia2 + yo * yo * ib2 - 1.0;
-          block_outliers += !(std::abs(f) < threshold);  // eq. 15
-        }
+        outliers += !inlier;
       }
-      outliers += block_outliers;
     }
   }
   return static_cast<double>(total - outliers) / n;
