@@ -50,15 +50,19 @@ void MinorAxisUp(const Ellipse& e, double* ux, double* uy) {
   }
 }
 
-bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double known_share) {
-  const double share = known_share >= 0 ? known_share : FineEdgeCoverage(in, *e);
-  if (share < kEdgeRefitMinShare) return false;
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double known_share,
+                  double* share) {
+  const double before = known_share >= 0 ? known_share : FineEdgeCoverage(in, *e);
+  if (share != nullptr) *share = before;
+  if (before < kEdgeRefitMinShare) return false;
   Ellipse refit = *e;
   if (!FitToEdgesNear(in, kEdgeRefitDistance, scratch, &refit)) return false;
   if (!(FeatureDistance(refit, *e) < 0.2 * e->b + 1)) return false;
-  // Stops once it cannot reach share (returning less than share).
-  if (FineEdgeCoverage(in, refit, share - 1.0 / 64) < share) return false;
+  // Stops once it cannot reach `before` (returning less); one that reaches it ran to the end.
+  const double after = FineEdgeCoverage(in, refit, before - 1.0 / 64);
+  if (after < before) return false;
   *e = refit;
+  if (share != nullptr) *share = after;
   return true;
 }
 

@@ -38,6 +38,18 @@ bool SameGeometry(const Ellipse& u, const Ellipse& v) {
   return u.cx == v.cx && u.cy == v.cy && u.a == v.a && u.b == v.b && u.theta == v.theta;
 }
 
+// Best score first; equal scores keep their order (the clustering's, by K + psi). Insertion sort:
+// stable without a buffer, and a frame keeps at most a few hundred ellipses, nearly sorted.
+void SortByScore(std::vector<Ellipse>* ellipses) {
+  std::vector<Ellipse>& v = *ellipses;
+  for (std::size_t i = 1; i < v.size(); ++i) {
+    const Ellipse e = v[i];
+    std::size_t j = i;
+    for (; j > 0 && v[j - 1].score < e.score; --j) v[j] = v[j - 1];
+    v[j] = e;
+  }
+}
+
 }  // namespace
 
 std::size_t ReserveFor(int cap) {
@@ -307,18 +319,23 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);
   kept = DropStriped(kept);
-  if (options.refit_to_edges) {
-    for (int i = 0; i < kept; ++i) {
-      // The clustering measured its best fit's FineEdgeCoverage; still this cluster's ellipse
-      // unless a rim or a top over a side replaced it.
-      const Candidate& c = candidates[i];
-      const bool same = SameGeometry(c.ellipse, c.best_fit);
-      RefitToEdges(EdgeView(), &candidates[i].ellipse, &refit_scratch, same ? c.best_fit_share : -1);
+  // The refit, and each detection's score: its support (types.h), the FineEdgeCoverage of the
+  // ellipse as reported. The clustering measured its best fit's; still this cluster's ellipse
+  // unless a rim or a top over a side replaced it.
+  for (int i = 0; i < kept; ++i) {
+    Candidate& c = candidates[i];
+    double share = SameGeometry(c.ellipse, c.best_fit) ? c.best_fit_share : -1;
+    if (options.refit_to_edges) {
+      RefitToEdges(EdgeView(), &c.ellipse, &refit_scratch, share, &share);
+    } else if (share < 0) {
+      share = FineEdgeCoverage(EdgeView(), c.ellipse);
     }
+    c.ellipse.score = share;
   }
   r->ellipses.clear();
   if (r->ellipses.capacity() < candidates.capacity()) r->ellipses.reserve(candidates.capacity());
   for (int i = 0; i < kept; ++i) r->ellipses.push_back(candidates[i].ellipse);
+  SortByScore(&r->ellipses);
   const auto t5 = Clock::now();
 
   r->backend = front.ran;

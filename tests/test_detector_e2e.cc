@@ -146,6 +146,7 @@ struct Tally {
   int truth = 0, found = 0, false_positives = 0;
   int found_jaccard = 0;  // detected by the paper's criterion: Jaccard overlap > 0.8
   std::vector<Ellipse> detections;  // for backend comparison
+  double min_score = 1, max_score = 0;  // over the detections near a truth ellipse
 };
 
 Tally RunScenes(Backend backend, bool occlude, std::uint32_t seed0, int min_truth, double min_edge_coverage = -1) {
@@ -176,10 +177,17 @@ Tally RunScenes(Backend backend, bool occlude, std::uint32_t seed0, int min_trut
           std::printf("   got (%.2f %.2f %.2f %.2f %.3f)\n", got.cx, got.cy, got.a, got.b, got.theta);
       }
     }
-    for (const Ellipse& got : result.ellipses) {
+    for (std::size_t i = 0; i < result.ellipses.size(); ++i) {
+      const Ellipse& got = result.ellipses[i];
+      EXPECT_TRUE(got.score >= 0 && got.score <= 1) << "score " << got.score << " is a share";
+      if (i > 0) EXPECT_GE(result.ellipses[i - 1].score, got.score) << "best score first, seed " << seed;
       bool near = false;
       for (const Ellipse& want : s.truth) near |= Near(got, want);
       t.false_positives += !near;
+      if (near) {
+        t.min_score = std::min(t.min_score, got.score);
+        t.max_score = std::max(t.max_score, got.score);
+      }
     }
     t.detections.insert(t.detections.end(), result.ellipses.begin(), result.ellipses.end());
   }
@@ -192,6 +200,7 @@ void Report(const char* what, Backend backend, const Tally& t) {
   std::printf("[ e2e ] %s, backend %s: recovered %d of %d (%.1f %%) within 1 px / 2 %% / 2 deg, "
               "%d with Jaccard > 0.8, false positives %d\n", what, BackendName(backend), t.found, t.truth,
               100.0 * t.found / t.truth, t.found_jaccard, t.false_positives);
+  std::printf("[ e2e ] scores of the detections near a truth ellipse: %.3f-%.3f\n", t.min_score, t.max_score);
 }
 
 class DetectorE2E : public ::testing::TestWithParam<Backend> {};
@@ -203,6 +212,8 @@ TEST_P(DetectorE2E, RecoversWholeEllipses) {
   // Measured (seeds 1000.., 40 ellipses, both backends): 40 of 40 within 1 px / 2 % / 2 deg.
   EXPECT_GE(t.found, t.truth * 90 / 100);
   EXPECT_LE(t.false_positives, 2);
+  // The score is the share of the outline that edges back (measured 1.000 on all 40).
+  EXPECT_GE(t.min_score, 0.95);
 }
 
 TEST_P(DetectorE2E, RecoversHalfOccludedEllipses) {
@@ -221,6 +232,9 @@ TEST_P(DetectorE2E, RecoversHalfOccludedEllipses) {
   EXPECT_GE(t.found, 15);
   // The occluders' straight edges must not produce ellipses of their own (measured 0).
   EXPECT_LE(t.false_positives, 1);
+  // Half the outline is hidden, and the score says so (measured 0.484-0.516).
+  EXPECT_GE(t.min_score, 0.4);
+  EXPECT_LE(t.max_score, 0.6);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, DetectorE2E, ::testing::Values(Backend::kScalar, Backend::kAuto),

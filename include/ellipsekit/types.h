@@ -26,7 +26,12 @@ struct Ellipse {
   double cx = 0, cy = 0;  // centre, px
   double a = 0, b = 0;    // semi-axes, px, a >= b
   double theta = 0;       // major-axis angle, rad, in [-pi/2, pi/2)
-  double score = 0;       // validation score: K(tau) + psi(tau), eqs. 13 and 16
+  // A detection's support, in [0, 1]: the share of 64 points spread along the outline that have an
+  // edge pixel within 1 px whose gradient lies along the outline's normal (on the edge map of the
+  // level it was found on). 1: edges back the whole outline; 0.5: half of it (hidden, or cut by
+  // the frame). Rank or threshold detections by it (`ellipsekit eval --curve`). While a candidate
+  // inside the detector it is the paper's K(tau) + psi(tau) (eqs. 13, 16), which orders clustering.
+  double score = 0;
 };
 
 enum class StatusCode {
