@@ -39,7 +39,8 @@ bool SameGeometry(const Ellipse& u, const Ellipse& v) {
 }
 
 // Best score first; equal scores keep their order (the clustering's, by K + psi). Insertion sort:
-// stable without a buffer, and a frame keeps at most a few hundred ellipses, nearly sorted.
+// stable without a buffer (std::stable_sort may allocate); a frame keeps at most a few hundred
+// ellipses, most of them at the top score, so few are moved.
 void SortByScore(std::vector<Ellipse>* ellipses) {
   std::vector<Ellipse>& v = *ellipses;
   for (std::size_t i = 1; i < v.size(); ++i) {
