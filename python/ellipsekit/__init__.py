@@ -88,8 +88,8 @@ class Detector:
             otherwise (e.g. a column-strided view or a Fortran-ordered array).
 
         Returns a Detections array of shape (N, 6), float64: cx, cy, a, b, theta, score per row,
-        best first (score: the share of the outline that edges back, 0-1; see types.h); the frame's figures are its attributes (timings, counts, caps_hit, backend,
-        simd_target). Bit-identical to `ellipsekit detect` on the same pixels and options.
+        best first (score: the share of the outline that edges back, 0-1; see types.h); the
+        frame's figures are its attributes (timings, counts, caps_hit, backend, simd_target). Bit-identical to `ellipsekit detect` on the same pixels and options.
 
         Raises TypeError for anything but a uint8 array of those shapes, ValueError for a frame
         the detector refuses (e.g. 0 pixels, over max_image_pixels).
