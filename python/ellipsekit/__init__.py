@@ -89,7 +89,8 @@ class Detector:
 
         Returns a Detections array of shape (N, 6), float64: cx, cy, a, b, theta, score per row,
         best first (score: the share of the outline that edges back, 0-1; see types.h); the
-        frame's figures are its attributes (timings, counts, caps_hit, backend, simd_target). Bit-identical to `ellipsekit detect` on the same pixels and options.
+        frame's figures are its attributes (timings, counts, caps_hit, backend, simd_target).
+        Bit-identical to `ellipsekit detect` on the same pixels and options.
 
         Raises TypeError for anything but a uint8 array of those shapes, ValueError for a frame
         the detector refuses (e.g. 0 pixels, over max_image_pixels).
