@@ -50,9 +50,8 @@ void MinorAxisUp(const Ellipse& e, double* ux, double* uy) {
   }
 }
 
-bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double known_share,
-                  double* share) {
-  const double before = known_share >= 0 ? known_share : FineEdgeCoverage(in, *e);
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double* share) {
+  const double before = share != nullptr && *share >= 0 ? *share : FineEdgeCoverage(in, *e);
   if (share != nullptr) *share = before;
   if (before < kEdgeRefitMinShare) return false;
   Ellipse refit = *e;

@@ -31,10 +31,9 @@ struct EdgeRefitScratch {
 
 // Refits *e in place (keeping its score); false when it was left as it was. No allocation once
 // scratch is reserved.
-// known_share >= 0: FineEdgeCoverage(in, *e), already measured (the clustering's best fit).
-// share != nullptr: set to FineEdgeCoverage(in, *e) of *e as it is on return.
-bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double known_share = -1,
-                  double* share = nullptr);
+// share (optional), in: FineEdgeCoverage(in, *e) when already measured (the clustering's best
+// fit), else < 0; out: FineEdgeCoverage(in, *e) of *e as it is on return.
+bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double* share = nullptr);
 
 // One step of it, without its checks: *e fitted to the edge pixels within `distance` px of it
 // (EdgePointsNear), keeping its score; false (*e left alone) when fewer than 12 are there or they

@@ -327,7 +327,7 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
     Candidate& c = candidates[i];
     double share = SameGeometry(c.ellipse, c.best_fit) ? c.best_fit_share : -1;
     if (options.refit_to_edges) {
-      RefitToEdges(EdgeView(), &c.ellipse, &refit_scratch, share, &share);
+      RefitToEdges(EdgeView(), &c.ellipse, &refit_scratch, &share);
     } else if (share < 0) {
       share = FineEdgeCoverage(EdgeView(), c.ellipse);
     }
