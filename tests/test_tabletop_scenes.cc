@@ -1,6 +1,7 @@
 // The hard tabletop set (tools/scenes/tabletop_scenes.h): option checks, determinism, the truth is
 // the projected rim, meta lines match truth lines, and the visible fraction (1 for a top inside the
 // frame and unhidden, the in-frame share for a top cut by the frame's edge, < 1 behind a box).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -59,7 +60,7 @@ TEST(TabletopScenes, KindNamesRoundTrip) {
     EXPECT_EQ(parsed, static_cast<TabletopKind>(k));
   }
   TabletopKind unused;
-  EXPECT_FALSE(ParseTabletopKind("bottle", &unused));
+  EXPECT_FALSE(ParseTabletopKind("tray", &unused));
 }
 
 TEST(TabletopScenes, DeterministicPerSeed) {
@@ -101,6 +102,7 @@ TEST(TabletopScenes, TruthIsTheProjectedRim) {
         // (x/a)^2 + (y/b)^2 = 1 on the ellipse; 1e-3 is < 0.01 px at these sizes.
         EXPECT_NEAR(x * x / (e.a * e.a) + y * y / (e.b * e.b), 1.0, 1e-3) << "seed " << seed << " top " << i;
       }
+      EXPECT_NE(top.kind, TabletopKind::kBottle) << "bottles only with TabletopSceneOptions::bottles";
       seen[static_cast<int>(top.kind)] = true;
       ++tops;
     }
@@ -108,6 +110,48 @@ TEST(TabletopScenes, TruthIsTheProjectedRim) {
   for (bool k : seen) kinds_seen += k;
   EXPECT_GE(tops, 12);
   EXPECT_GE(kinds_seen, 4);
+}
+
+// With bottles: a bottle's truth is its cap's top rim, 12-17 mm in radius and 16-26 cm above the
+// table, where the image shows it: along a fully visible cap rim the image 2 px inside differs
+// from 2 px outside (the contrast fix), as it does for the other kinds.
+TEST(TabletopScenes, BottleTruthIsTheCapRimHighAboveTheTable) {
+  TabletopSceneOptions o = Small();
+  o.bottles = true;
+  int bottles = 0, visible = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    const TabletopScene s = RenderTabletopScene(MixSeed(5, seed), o);
+    for (std::size_t i = 0; i < s.tops.size(); ++i) {
+      const TabletopTop& top = s.tops[i];
+      if (top.kind != TabletopKind::kBottle) continue;
+      ++bottles;
+      EXPECT_GE(top.rim_radius_m, 0.012);
+      EXPECT_LE(top.rim_radius_m, 0.017);
+      EXPECT_GE(top.rim_centre[2], 0.16);
+      EXPECT_LE(top.rim_centre[2], 0.26);
+      const Ellipse& e = s.truth[i];
+      std::vector<double> steps;
+      for (int k = 0; k < 36; ++k) {
+        double u = 0, v = 0;
+        ASSERT_TRUE(ProjectRim(s, top, k, 36, &u, &v));
+        const double dx = u - e.cx, dy = v - e.cy;
+        const double x = dx * std::cos(e.theta) + dy * std::sin(e.theta);
+        const double y = -dx * std::sin(e.theta) + dy * std::cos(e.theta);
+        EXPECT_NEAR(x * x / (e.a * e.a) + y * y / (e.b * e.b), 1.0, 1e-3) << "seed " << seed << " top " << i;
+        const double len = std::hypot(dx, dy);
+        const int xi = static_cast<int>(std::lround(u - 2 * dx / len)), yi = static_cast<int>(std::lround(v - 2 * dy / len));
+        const int xo = static_cast<int>(std::lround(u + 2 * dx / len)), yo = static_cast<int>(std::lround(v + 2 * dy / len));
+        if (std::min({xi, yi, xo, yo}) < 0 || std::max(xi, xo) >= s.gray.cols || std::max(yi, yo) >= s.gray.rows) continue;
+        steps.push_back(std::abs(s.gray.at<std::uint8_t>(yi, xi) - s.gray.at<std::uint8_t>(yo, xo)));
+      }
+      if (top.visible_fraction < 1 || steps.size() < 36) continue;
+      ++visible;
+      std::sort(steps.begin(), steps.end());
+      EXPECT_GE(steps[steps.size() / 2], 8) << "seed " << seed << " top " << i;
+    }
+  }
+  EXPECT_GE(bottles, 4);
+  EXPECT_GE(visible, 2);
 }
 
 // One container, no boxes: nothing can hide its top but the frame's edge, so its visible fraction

@@ -102,6 +102,7 @@ void TabletopBuilder::SetupTable() {
 }
 
 TabletopKind TabletopBuilder::DrawKind() {
+  if (o_.bottles && w_.rng_.Chance(kBottleShare)) return TabletopKind::kBottle;
   const double p = w_.rng_.Uniform();
   return p < 0.25   ? TabletopKind::kCan
          : p < 0.45 ? TabletopKind::kCup
@@ -129,6 +130,11 @@ Cylinder TabletopBuilder::MakeContainer(TabletopKind kind) {
       c.r = rng.Uniform(0.03, 0.05);
       c.h = rng.Uniform(0.08, 0.15);
       break;
+    case TabletopKind::kBottle:
+      c.kind = CylKind::kJar;
+      c.r = rng.Uniform(0.028, 0.042);
+      c.h = rng.Uniform(0.16, 0.26);
+      break;
     case TabletopKind::kWood:
     case TabletopKind::kCardboard:
       c.kind = CylKind::kCan;
@@ -147,6 +153,13 @@ Cylinder TabletopBuilder::MakeContainer(TabletopKind kind) {
       break;
     case TabletopKind::kJar:
       World::ShapeContainer(Container::kJar, rng.Chance(0.25), &rng, &c);
+      break;
+    case TabletopKind::kBottle:  // a jar whose "lid" is a narrow neck and cap above a rounded shoulder
+      World::ShapeContainer(Container::kJar, rng.Chance(0.25), &rng, &c);
+      c.lid_r = rng.Uniform(0.012, 0.017);
+      c.cap_h = rng.Uniform(0.012, 0.022);
+      c.neck_h = c.h - c.cap_h - rng.Uniform(0.01, 0.03);
+      c.shoulder_h = c.neck_h - rng.Uniform(0.02, 0.04);
       break;
     case TabletopKind::kWood:
     case TabletopKind::kCardboard: {
@@ -326,6 +339,7 @@ const char* TabletopKindName(TabletopKind kind) {
     case TabletopKind::kJar: return "jar";
     case TabletopKind::kWood: return "wood";
     case TabletopKind::kCardboard: return "cardboard";
+    case TabletopKind::kBottle: return "bottle";
   }
   return "?";
 }

@@ -1,6 +1,7 @@
-// The hard tabletop set (issue 18): 2-8 upright containers of five kinds on a textured table among
-// boxes and flat clutter, seen by a camera tilted 30-70 degrees from 0.4-1.2 m, with the exact image
-// ellipse of every top's outer rim and, per top, its kind and how much of its rim is visible.
+// The hard tabletop set (issue 18): 2-8 upright containers of five kinds (six with bottles) on a
+// textured table among boxes and flat clutter, seen by a camera tilted 30-70 degrees from 0.4-1.2 m,
+// with the exact image ellipse of every top's outer rim and, per top, its kind and how much of its
+// rim is visible.
 //
 //   ellipsekit::scenes::TabletopScene s = ellipsekit::scenes::RenderTabletopScene(42);
 //   // s.gray: 640x480 frame; s.truth[i]: the rim ellipse of top i; s.tops[i]: its kind, visibility
@@ -14,6 +15,9 @@
 //   wood       a plain wooden cylinder: end grain on the top, long grain on the side, top and side
 //              in one colour (low contrast: only the light tells them apart)
 //   cardboard  a plain cardboard tube with a closed top, mottled, top and side in one colour
+//   bottle     only with TabletopSceneOptions::bottles: a tall body (16-26 cm), a rounded shoulder
+//              2-4 cm high, a neck of the body's colour and a cap (radius 12-17 mm, 1.2-2.2 cm
+//              tall); the truth is the cap's top rim, a small ellipse high above the table
 // The world: wood, cloth (woven, plaid bands), mottled or plain tables; soft shadows (penumbra
 // growing with height); boxes, a share of them placed in front of a container so that they hide
 // part of its top; flat printed shapes and lines on the table; tops allowed to run off the frame.
@@ -48,10 +52,10 @@
 
 namespace ellipsekit::scenes {
 
-enum class TabletopKind { kCan, kCup, kJar, kWood, kCardboard };
-inline constexpr int kTabletopKinds = 5;
+enum class TabletopKind { kCan, kCup, kJar, kWood, kCardboard, kBottle };
+inline constexpr int kTabletopKinds = 6;
 
-// "can", "cup", "jar", "wood", "cardboard".
+// "can", "cup", "jar", "wood", "cardboard", "bottle".
 const char* TabletopKindName(TabletopKind kind);
 bool ParseTabletopKind(const std::string& name, TabletopKind* out);
 
@@ -65,7 +69,11 @@ struct TabletopSceneOptions {
   double min_visible_fraction = 0.3;                  // every top keeps at least this much rim visible
   double edge_cut_share = 0.3;                        // share of placements that may run off the frame
   double noise_sigma = 3.0, blur_sigma = 0.8;         // as SceneOptions
+  // Capped bottles among the kinds: each container is a bottle with probability kBottleShare, else
+  // drawn as without them. false (the default) draws exactly the scenes of the fixed hard set.
+  bool bottles = false;
 };
+inline constexpr double kBottleShare = 0.25;
 
 struct TabletopTop {
   TabletopKind kind = TabletopKind::kCan;

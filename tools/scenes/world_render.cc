@@ -39,10 +39,31 @@ bool World::IntersectJar(const Cylinder& c, V3 D, double s_max, Hit* h) const {
     best = s1;
     part = p;
   };
+  // A bottle's shoulder: radius rho(z) = r + k (z - shoulder_h) from shoulder_h up to neck_h;
+  // |(ox, oy) + s (Dx, Dy)|^2 = (q0 + q1 s)^2 is quadratic in s.
+  auto cone = [&]() {
+    const double k = (c.lid_r - c.r) / (c.neck_h - c.shoulder_h);
+    const double q0 = c.r + k * (O.z - c.shoulder_h), q1 = k * D.z;
+    const double A = D.x * D.x + D.y * D.y - q1 * q1, B = ox * D.x + oy * D.y - q0 * q1;
+    const double C = ox * ox + oy * oy - q0 * q0, d = B * B - A * C;
+    if (d < 0 || std::abs(A) < 1e-18) return;
+    for (const double st : {(-B - std::sqrt(d)) / A, (-B + std::sqrt(d)) / A}) {
+      const double z = O.z + st * D.z;
+      if (st > 0 && st < best && z >= c.shoulder_h && z <= c.neck_h && q0 + q1 * st >= 0) {
+        best = st;
+        part = kShoulder;
+      }
+    }
+  };
   const double lr2 = c.lid_r * c.lid_r;
+  const bool bottle = c.neck_h > c.shoulder_h;
   disc(c.h, 0, lr2, kTop);
-  side(lr2, c.shoulder_h, c.h, kLidSide);
-  disc(c.shoulder_h, lr2, c.r2, kShoulder);
+  side(lr2, bottle ? c.neck_h : c.shoulder_h, c.h, kLidSide);
+  if (bottle) {
+    cone();
+  } else {
+    disc(c.shoulder_h, lr2, c.r2, kShoulder);
+  }
   side(c.r2, 0, c.shoulder_h, kSide);
   if (part < 0) return false;
   h->s = best;
@@ -412,12 +433,29 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
     case kLidSide: {
       const Cylinder& c = cyl_[h.obj];
       const V3 n{(P.x - c.x) / c.lid_r, (P.y - c.y) / c.lid_r, 0};
-      albedo = std::min(c.top_albedo * c.top_scale, 1.0);
+      const bool neck = c.neck_h > c.shoulder_h && P.z < c.h - c.cap_h;  // a bottle's neck, below its cap
+      albedo = neck ? c.side_albedo : std::min(c.top_albedo * c.top_scale, 1.0);
       lit = ambient_ + diffuse_ * std::max(0.0, Dot(n, light_));
       break;
     }
     case kShoulder: {
       const Cylinder& c = cyl_[h.obj];
+      if (c.neck_h > c.shoulder_h) {
+        // A bottle's rounded shoulder: the shading normal rises from the side's (horizontal) to
+        // kShoulderTilt above it and back to the neck's, so neither end shows a crease.
+        constexpr double kShoulderTilt = 1.2;  // rad
+        const double t = Clamp((P.z - c.shoulder_h) / (c.neck_h - c.shoulder_h), 0.0, 1.0);
+        const double dx = P.x - c.x, dy = P.y - c.y, rho = std::max(1e-9, std::hypot(dx, dy));
+        const double up = kShoulderTilt * std::sin(kPi * t);
+        const V3 n{dx / rho * std::cos(up), dy / rho * std::cos(up), std::sin(up)};
+        albedo = c.side_albedo;
+        lit = ambient_ + diffuse_ * std::max(0.0, Dot(n, light_));
+        if (c.spec > 0) {
+          const V3 Hh = Normalize(light_ + Normalize(cam_.pos - P));
+          spec = c.spec * std::pow(std::max(0.0, Dot(n, Hh)), c.shininess);
+        }
+        break;
+      }
       albedo = 0.85 * c.side_albedo;
       lit = ambient_ + diffuse_ * light_.z;
       break;
