@@ -64,8 +64,9 @@ const char kScenesUsage[] =
     "  --crossing        write a sequence of two cans crossing (see above)\n"
     "  --frames N        frames of a --stack or --crossing sequence, 1 <= N <= 100000\n"
     "  --container K     with --conveyor, --stack or --crossing: what stands there, flat-can (default),\n"
-    "                    recessed-can (rolled rim, lid 3-6 mm down), cup, filled-cup or jar; truth.jsonl\n"
-    "                    then gives each top's rim circle (tools/scenes/scene_generator.h Container)\n"
+    "                    recessed-can (rolled rim, lid 3-6 mm down), cup, filled-cup, jar or bottle\n"
+    "                    (its cap); truth.jsonl then gives each top's rim circle\n"
+    "                    (tools/scenes/scene_generator.h Container)\n"
     "  --metal-top       with --container: a specular metal lid\n"
     "  -h, --help        this text\n";
 
@@ -174,7 +175,7 @@ int RunScenes(const std::vector<std::string>& argv) {
   scenes::Container container = scenes::Container::kFlatCan;
   if (!container_name.empty() && !scenes::ParseContainer(container_name, &container))
     throw UsageError("--container: unknown container '" + container_name +
-                     "' (flat-can, recessed-can, cup, filled-cup, jar)");
+                     "' (flat-can, recessed-can, cup, filled-cup, jar, bottle)");
   if (conveyor) {
     scenes::ConveyorSceneOptions co;
     co.speed_m_s = speed;

@@ -184,13 +184,14 @@ const char* ContainerName(Container c) {
     case Container::kCupEmpty: return "cup";
     case Container::kCupFilled: return "filled-cup";
     case Container::kJar: return "jar";
+    case Container::kBottle: return "bottle";
   }
   return "?";
 }
 
 bool ParseContainer(const std::string& name, Container* out) {
   for (Container c : {Container::kFlatCan, Container::kRecessedCan, Container::kCupEmpty, Container::kCupFilled,
-                      Container::kJar}) {
+                      Container::kJar, Container::kBottle}) {
     if (name == ContainerName(c)) {
       *out = c;
       return true;

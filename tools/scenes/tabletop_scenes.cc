@@ -154,12 +154,8 @@ Cylinder TabletopBuilder::MakeContainer(TabletopKind kind) {
     case TabletopKind::kJar:
       World::ShapeContainer(Container::kJar, rng.Chance(0.25), &rng, &c);
       break;
-    case TabletopKind::kBottle:  // a jar whose "lid" is a narrow neck and cap above a rounded shoulder
-      World::ShapeContainer(Container::kJar, rng.Chance(0.25), &rng, &c);
-      c.lid_r = rng.Uniform(0.012, 0.017);
-      c.cap_h = rng.Uniform(0.012, 0.022);
-      c.neck_h = c.h - c.cap_h - rng.Uniform(0.01, 0.03);
-      c.shoulder_h = c.neck_h - rng.Uniform(0.02, 0.04);
+    case TabletopKind::kBottle:
+      World::ShapeContainer(Container::kBottle, rng.Chance(0.25), &rng, &c);
       break;
     case TabletopKind::kWood:
     case TabletopKind::kCardboard: {

@@ -15,9 +15,9 @@
 //   wood       a plain wooden cylinder: end grain on the top, long grain on the side, top and side
 //              in one colour (low contrast: only the light tells them apart)
 //   cardboard  a plain cardboard tube with a closed top, mottled, top and side in one colour
-//   bottle     only with TabletopSceneOptions::bottles: a tall body (16-26 cm), a rounded shoulder
-//              2-4 cm high, a neck of the body's colour and a cap (radius 12-17 mm, 1.2-2.2 cm
-//              tall); the truth is the cap's top rim, a small ellipse high above the table
+//   bottle     only with TabletopSceneOptions::bottles: Container::kBottle, 16-26 cm tall (a
+//              rounded shoulder 2-4 cm high, a neck of the body's colour, a cap of radius 12-17 mm,
+//              1.2-2.2 cm tall); the truth is the cap's top rim, a small ellipse high above the table
 // The world: wood, cloth (woven, plaid bands), mottled or plain tables; soft shadows (penumbra
 // growing with height); boxes, a share of them placed in front of a container so that they hide
 // part of its top; flat printed shapes and lines on the table; tops allowed to run off the frame.

@@ -301,6 +301,7 @@ void World::ShapeContainer(Container kind, bool metal_top, Rng* rng, Cylinder* c
       break;
     }
     case Container::kJar:  // glass body with a shoulder, a narrower screw lid on top
+    case Container::kBottle:
       c->kind = CylKind::kJar;
       c->lid_r = c->r - rng->Uniform(0.004, 0.008);
       c->shoulder_h = c->h - rng->Uniform(0.008, 0.014);
@@ -311,6 +312,14 @@ void World::ShapeContainer(Container kind, bool metal_top, Rng* rng, Cylinder* c
         c->top_albedo = rng->Uniform(0.1, 0.9);
       } while (std::abs(c->top_albedo - c->side_albedo) < 0.15);
       c->rim_albedo = Clamp(c->top_albedo + (rng->Chance(0.5) ? 1 : -1) * rng->Uniform(0.08, 0.2), 0.05, 0.95);
+      if (kind == Container::kBottle) {  // the jar's "lid" becomes a narrow neck and cap (world.h)
+        const double cap = rng->Uniform(0.012, 0.022), neck = rng->Uniform(0.01, 0.03), cone = rng->Uniform(0.02, 0.04);
+        const double fit = std::min(1.0, 0.55 * c->h / (cap + neck + cone));
+        c->lid_r = rng->Uniform(0.012, 0.017);
+        c->cap_h = fit * cap;
+        c->neck_h = c->h - fit * (cap + neck);
+        c->shoulder_h = c->neck_h - fit * cone;
+      }
       break;
   }
   if (metal_top) {
