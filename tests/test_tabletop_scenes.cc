@@ -35,6 +35,14 @@ bool ProjectRim(const TabletopScene& s, const TabletopTop& top, int k, int n, do
   return true;
 }
 
+// (x/a)^2 + (y/b)^2 of image point (u, v) in e's frame: 1 on the ellipse.
+double EllipseLevel(const Ellipse& e, double u, double v) {
+  const double dx = u - e.cx, dy = v - e.cy;
+  const double x = dx * std::cos(e.theta) + dy * std::sin(e.theta);
+  const double y = -dx * std::sin(e.theta) + dy * std::cos(e.theta);
+  return x * x / (e.a * e.a) + y * y / (e.b * e.b);
+}
+
 TEST(TabletopScenes, RefusesBadOptionsByName) {
   TabletopSceneOptions o;
   o.width = 10;
@@ -96,11 +104,8 @@ TEST(TabletopScenes, TruthIsTheProjectedRim) {
       for (int k = 0; k < 72; ++k) {
         double u = 0, v = 0;
         ASSERT_TRUE(ProjectRim(s, top, k, 72, &u, &v));
-        const double dx = u - e.cx, dy = v - e.cy;
-        const double x = dx * std::cos(e.theta) + dy * std::sin(e.theta);
-        const double y = -dx * std::sin(e.theta) + dy * std::cos(e.theta);
-        // (x/a)^2 + (y/b)^2 = 1 on the ellipse; 1e-3 is < 0.01 px at these sizes.
-        EXPECT_NEAR(x * x / (e.a * e.a) + y * y / (e.b * e.b), 1.0, 1e-3) << "seed " << seed << " top " << i;
+        // 1e-3 is < 0.01 px at these sizes.
+        EXPECT_NEAR(EllipseLevel(e, u, v), 1.0, 1e-3) << "seed " << seed << " top " << i;
       }
       EXPECT_NE(top.kind, TabletopKind::kBottle) << "bottles only with TabletopSceneOptions::bottles";
       seen[static_cast<int>(top.kind)] = true;
@@ -134,11 +139,8 @@ TEST(TabletopScenes, BottleTruthIsTheCapRimHighAboveTheTable) {
       for (int k = 0; k < 36; ++k) {
         double u = 0, v = 0;
         ASSERT_TRUE(ProjectRim(s, top, k, 36, &u, &v));
-        const double dx = u - e.cx, dy = v - e.cy;
-        const double x = dx * std::cos(e.theta) + dy * std::sin(e.theta);
-        const double y = -dx * std::sin(e.theta) + dy * std::cos(e.theta);
-        EXPECT_NEAR(x * x / (e.a * e.a) + y * y / (e.b * e.b), 1.0, 1e-3) << "seed " << seed << " top " << i;
-        const double len = std::hypot(dx, dy);
+        EXPECT_NEAR(EllipseLevel(e, u, v), 1.0, 1e-3) << "seed " << seed << " top " << i;
+        const double dx = u - e.cx, dy = v - e.cy, len = std::hypot(dx, dy);
         const int xi = static_cast<int>(std::lround(u - 2 * dx / len)), yi = static_cast<int>(std::lround(v - 2 * dy / len));
         const int xo = static_cast<int>(std::lround(u + 2 * dx / len)), yo = static_cast<int>(std::lround(v + 2 * dy / len));
         if (std::min({xi, yi, xo, yo}) < 0 || std::max(xi, xo) >= s.gray.cols || std::max(yi, yo) >= s.gray.rows) continue;
