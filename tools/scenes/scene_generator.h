@@ -79,9 +79,9 @@ std::string FormatTruthLine(const ellipsekit::Ellipse& e);
 //   kCupEmpty     an open cup, wall 2-4 mm, inner floor 6-12 mm above the table
 //   kCupFilled    the same cup filled to 45-85 % of its height (contents unlike the inner wall)
 //   kJar          a body with a shoulder and a screw lid 4-8 mm narrower in radius, 8-14 mm tall
-//   kBottle       a body, a rounded shoulder narrowing to a neck of the body's colour, and a cap
-//                 of radius 12-17 mm; shoulder, neck and cap take 4.5-9 cm of a tall bottle, less
-//                 of a short one (the shoulder starts at >= 0.45 of the height)
+//   kBottle       a body, a rounded shoulder (2-4 cm) narrowing to a neck (1-3 cm) of the body's
+//                 colour, and a cap (1.2-2.2 cm) of radius 12-17 mm; the three scaled down alike
+//                 where they would take more than 0.55 of the height (a short bottle)
 // metal_top makes the lid (and a recessed lid's floor) strongly specular. The rim circle (truth) is
 // the top edge of the outermost ring seen from above: the can's rim bead, the cup's lip, the jar's
 // lid, the bottle's cap; centre at the top height, normal +z (world), radius rim_radius_m.
