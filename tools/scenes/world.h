@@ -149,14 +149,15 @@ struct Cylinder {
   double floor_albedo = -1;   // cup: the contents' surface at z_floor (>= 0: filled)
   double lid_r = 0;           // jar: a lid narrower than the body, from shoulder_h up to h
   double shoulder_h = 0;
-  // Bottle (a jar with neck_h > shoulder_h): the shoulder narrows as a cone from radius r at
-  // shoulder_h to lid_r at neck_h, shaded as a rounded shoulder (no crease at either end); the
-  // neck runs on up to h in the body's colour but for its top cap_h, the cap (top_albedo).
+  // Bottle (bottle(): a jar with neck_h > shoulder_h): the shoulder narrows as a cone from
+  // radius r at shoulder_h to lid_r at neck_h, shaded as a rounded shoulder (no crease at either
+  // end); the neck runs on up to h in the body's colour but for its top cap_h, the cap (top_albedo).
   double neck_h = 0, cap_h = 0;
   bool metal_top = false;     // strong specular lid (and lid floor)
   PlainMaterial material = PlainMaterial::kNone;  // plain cylinder: texture (World::PlainTexture)
   double grain_contrast = 0, grain_period = 0.004, pith_x = 0, pith_y = 0;
   double rim_r() const { return lid_r > 0 ? lid_r : r; }  // radius of the top rim circle
+  bool bottle() const { return neck_h > shoulder_h; }     // see neck_h
   IRect bbox;
   TRect shadow;
   IRect shadow_bbox;

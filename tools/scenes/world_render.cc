@@ -56,10 +56,9 @@ bool World::IntersectJar(const Cylinder& c, V3 D, double s_max, Hit* h) const {
     }
   };
   const double lr2 = c.lid_r * c.lid_r;
-  const bool bottle = c.neck_h > c.shoulder_h;
   disc(c.h, 0, lr2, kTop);
-  side(lr2, bottle ? c.neck_h : c.shoulder_h, c.h, kLidSide);
-  if (bottle) {
+  side(lr2, c.bottle() ? c.neck_h : c.shoulder_h, c.h, kLidSide);
+  if (c.bottle()) {
     cone();
   } else {
     disc(c.shoulder_h, lr2, c.r2, kShoulder);
@@ -327,6 +326,11 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
   double albedo = 0, lit = 0;  // lit: ambient + diffuse, spec added separately
   double spec = 0;
   const V3 P = h.p;
+  // Phong highlight of a container's side (and a bottle's shoulder) with surface normal n.
+  auto side_spec = [&](const Cylinder& c, V3 n) {
+    const V3 Hh = Normalize(light_ + Normalize(cam_.pos - P));
+    return c.spec * std::pow(std::max(0.0, Dot(n, Hh)), c.shininess);
+  };
   switch (h.part) {
     case kBackground:
       return background_;
@@ -379,10 +383,7 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
       if (c.material != PlainMaterial::kNone) albedo *= PlainTexture(c, P, false);
       const double ao = 1 - 0.35 * std::max(0.0, 1 - P.z / 0.012);
       lit = ambient_ * ao + diffuse_ * std::max(0.0, Dot(n, light_));
-      if (c.spec > 0) {
-        const V3 Hh = Normalize(light_ + Normalize(cam_.pos - P));
-        spec = c.spec * std::pow(std::max(0.0, Dot(n, Hh)), c.shininess);
-      }
+      if (c.spec > 0) spec = side_spec(c, n);
       break;
     }
     case kTop: {
@@ -433,14 +434,14 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
     case kLidSide: {
       const Cylinder& c = cyl_[h.obj];
       const V3 n{(P.x - c.x) / c.lid_r, (P.y - c.y) / c.lid_r, 0};
-      const bool neck = c.neck_h > c.shoulder_h && P.z < c.h - c.cap_h;  // a bottle's neck, below its cap
+      const bool neck = c.bottle() && P.z < c.h - c.cap_h;  // a bottle's neck, below its cap
       albedo = neck ? c.side_albedo : std::min(c.top_albedo * c.top_scale, 1.0);
       lit = ambient_ + diffuse_ * std::max(0.0, Dot(n, light_));
       break;
     }
     case kShoulder: {
       const Cylinder& c = cyl_[h.obj];
-      if (c.neck_h > c.shoulder_h) {
+      if (c.bottle()) {
         // A bottle's rounded shoulder: the shading normal rises from the side's (horizontal) to
         // kShoulderTilt above it and back to the neck's, so neither end shows a crease.
         constexpr double kShoulderTilt = 1.2;  // rad
@@ -450,10 +451,7 @@ double World::Shade(const Hit& h, V3 D, V3 D_centre, TexCache* tc) const {
         const V3 n{dx / rho * std::cos(up), dy / rho * std::cos(up), std::sin(up)};
         albedo = c.side_albedo;
         lit = ambient_ + diffuse_ * std::max(0.0, Dot(n, light_));
-        if (c.spec > 0) {
-          const V3 Hh = Normalize(light_ + Normalize(cam_.pos - P));
-          spec = c.spec * std::pow(std::max(0.0, Dot(n, Hh)), c.shininess);
-        }
+        if (c.spec > 0) spec = side_spec(c, n);
         break;
       }
       albedo = 0.85 * c.side_albedo;
