@@ -166,6 +166,9 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     const int explained = std::popcount(contacts->Touching(inner, k) & ~best_band);
     if (best_covered < min_coverage * (kSectors - explained)) return false;
   }
+  // Sectors [0, 32) lie on the side of -v, which points up in the image when cos theta > 0.
+  const int upper_half = c > 0 ? std::popcount(best_band & 0xffffffffull) : std::popcount(best_band >> 32);
+  if (std::abs(c) >= kRimFarHalfMinUp && upper_half < kRimFarHalfMinCoverage * (kSectors / 2)) return false;
   *outer = inner;
   outer->a = k * inner.a;
   outer->b = k * inner.b;

@@ -85,7 +85,8 @@ TEST(RimSearch, FindsAFullOuterRingAtItsScale) {
 
 TEST(RimSearch, CoverageDecides) {
   EdgeFrame f;
-  f.Ring(Inner(), 1.3, 0.2, 0.2 + 0.45 * kTwoPi);  // 45 % of the angle
+  // 45 % of the angle, most of it on the upper (far) half: Inner()'s minor axis is near vertical.
+  f.Ring(Inner(), 1.3, std::numbers::pi + 0.2, std::numbers::pi + 0.2 + 0.45 * kTwoPi);
   Ellipse rim;
   long scanned = 0;
   EXPECT_FALSE(ellipsekit::FindOuterRim(f.Input(), Inner(), 0.6, &rim, &scanned));
@@ -139,17 +140,17 @@ TEST(RimSearch, EllipsesAtOrBeyondTheBorderAreSafe) {
 }
 
 // A lid drawn as a dark inner disc in a bright rim ring whose outer edge has contrast against the
-// background along its lower half only (the upper half of the ring is the background's gray): the
+// background along its upper (far) half only (the lower half of the ring is the background's gray): the
 // outer rim's arcs lie in two quadrants, too few for a triplet, so only the inner edge is a
 // candidate; the search, asked for half the angle, completes the outer rim.
 TEST(RimSearch, DetectorReportsTheOuterRimOfADrawnLid) {
   // The outer rim has contrast over half its length: as one half along the major axis (cv::ellipse
-  // angles 0-180), or as two opposite quarters (0-90 and 180-270).
+  // angles 180-360), or as two opposite quarters (0-90 and 180-270).
   const cv::Point centre(160, 120);
   const cv::Size outer(70, 45), inner(56, 36);  // 1.25x
   auto draw = [&](bool quarters) {
     cv::Mat img(240, 320, CV_8UC1, cv::Scalar(110));
-    cv::ellipse(img, centre, outer, 20, 0, quarters ? 90 : 180, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
+    cv::ellipse(img, centre, outer, 20, quarters ? 0 : 180, quarters ? 90 : 360, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
     if (quarters) cv::ellipse(img, centre, outer, 20, 180, 270, cv::Scalar(190), cv::FILLED, cv::LINE_AA);
     cv::ellipse(img, centre, inner, 20, 0, 360, cv::Scalar(40), cv::FILLED, cv::LINE_AA);
     return img;
@@ -228,9 +229,11 @@ TEST(EdgeCoverage, IsTheShareOfTheOutlineWithNormalEdges) {
 
 // A ring covered over one half (split along the major axis) passes the half rule (rim_search.h)
 // below min_coverage; the same 50 % as two opposite quarters does not.
+// Inner()'s parametric angles [0, pi) are its lower (near) half in the image, [pi, 2 pi) its
+// upper (far) half.
 TEST(RimSearch, HalfBackedRingPassesBelowMinCoverage) {
-  EdgeFrame half_ring, quarters;
-  half_ring.Ring(Inner(), 1.2, 0, 0.5 * kTwoPi);
+  EdgeFrame half_ring, quarters, near_half;
+  half_ring.Ring(Inner(), 1.2, 0.5 * kTwoPi, kTwoPi);
   half_ring.Ring(Inner(), 1.0, 0, kTwoPi);
   quarters.Ring(Inner(), 1.2, 0, 0.25 * kTwoPi);
   quarters.Ring(Inner(), 1.2, 0.5 * kTwoPi, 0.75 * kTwoPi);
@@ -241,6 +244,31 @@ TEST(RimSearch, HalfBackedRingPassesBelowMinCoverage) {
   EXPECT_NEAR(out.a / Inner().a, 1.2, 0.02);
   EXPECT_FALSE(ellipsekit::FindOuterRim(quarters.Input(), Inner(), 0.6, &out, &scanned));
   EXPECT_TRUE(ellipsekit::FindOuterRim(quarters.Input(), Inner(), 0.45, &out, &scanned));
+  // The near half alone is not a rim: its far half would stand against the background.
+  near_half.Ring(Inner(), 1.2, 0, 0.5 * kTwoPi);
+  near_half.Ring(Inner(), 1.0, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindOuterRim(near_half.Input(), Inner(), 0.45, &out, &scanned));
+}
+
+// A ledge below a top (a lidded jar's shoulder) backed along its near half and sides, 65 % of
+// the angle, its far half hidden behind the top: rejected although 65 % passes min_coverage, as
+// a rim is backed along its far half (kRimFarHalfMinCoverage). The same ring turned upside down
+// is a rim; and with the minor axis horizontal the image says nothing of which half is far.
+TEST(RimSearch, ALedgeBelowTheTopIsNotItsRim) {
+  const double pi = std::numbers::pi;
+  EdgeFrame ledge, rim;
+  ledge.Ring(Inner(), 1.2, -0.15 * pi, 1.15 * pi);
+  rim.Ring(Inner(), 1.2, 0.85 * pi, 2.15 * pi);
+  Ellipse out;
+  long scanned = 0;
+  EXPECT_FALSE(ellipsekit::FindOuterRim(ledge.Input(), Inner(), 0.6, &out, &scanned));
+  ASSERT_TRUE(ellipsekit::FindOuterRim(rim.Input(), Inner(), 0.6, &out, &scanned));
+  EXPECT_NEAR(out.a / Inner().a, 1.2, 0.02);
+  Ellipse upright = Inner();
+  upright.theta += pi / 2;
+  EdgeFrame side;
+  side.Ring(upright, 1.2, -0.15 * pi, 1.15 * pi);
+  EXPECT_TRUE(ellipsekit::FindOuterRim(side.Input(), upright, 0.6, &out, &scanned));
 }
 
 // RimContacts that marks the sectors whose middle lies in the parametric ranges [t0, t1) of
