@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "fit/edge_refit.h"
 #include "fit/recessed_rim.h"
 
 namespace ellipsekit {
@@ -65,6 +66,14 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
   if (std::abs(outer.b / outer.a - inner.b / inner.a) > kRimAxisRatioTolerance) return false;
   return BothNearlyRound(outer, inner) ||
          OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;
+}
+
+bool IsLedgeBelow(const Ellipse& ledge, const Ellipse& top) {
+  if (!(top.b < kRoundAxisRatio * top.a)) return false;  // seen from above: no way is up
+  double ux, uy;
+  MinorAxisUp(top, &ux, &uy);
+  const double drop = -((ledge.cx - top.cx) * ux + (ledge.cy - top.cy) * uy);
+  return drop >= kLedgeMinDrop * top.b && ledge.a + ledge.b >= kLedgeMinScale * (top.a + top.b);
 }
 
 // Cluster references by the grid cell of their centres. SameEllipse(v, w) implies centres within
@@ -156,13 +165,14 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
       ref.rim = c[i].ellipse;
     }
     // A member that fits the edges more tightly than the representative so far; rims of the
-    // reference, outer or inner, and members more than kRimMaxScale larger or smaller (the other
-    // edge of a printed ring, joined to a slightly off-centre fit of this one by eq. 17) are other
-    // ellipses, never its representative; only the kFitTries best-scoring members are tried.
+    // reference, outer or inner, a ledge below it, and members more than kRimMaxScale larger or
+    // smaller (the other edge of a printed ring, joined to a slightly off-centre fit of this one
+    // by eq. 17) are other ellipses, never its representative; only the kFitTries best-scoring
+    // of the others are tried.
     const double scale = (c[i].ellipse.a + c[i].ellipse.b) / (ref.ellipse.a + ref.ellipse.b);
     const bool same_size = scale < kRimMaxScale && scale > 1 / kRimMaxScale;
     if (pick_best_fit && !outer && same_size && !IsOuterRim(ref.ellipse, c[i].ellipse) &&
-        ref.fit_tries++ < kFitTries) {
+        !IsLedgeBelow(c[i].ellipse, ref.ellipse) && ref.fit_tries++ < kFitTries) {
       if (ref.best_fit_share < 0) ref.best_fit_share = check->FitShare(ref, -1);
       const double share = check->FitShare(c[i], ref.best_fit_share);
       if (share > ref.best_fit_share && passes(c[i])) {

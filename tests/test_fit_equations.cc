@@ -467,6 +467,35 @@ TEST(FitClustering, RecessedRimRepresentsItsLid) {
   EXPECT_DOUBLE_EQ(representative({lid, rim, concentric}, o).a, concentric.a);
 }
 
+// A lidded jar seen at an angle: its lid (best score) and the shoulder around it, 1.2x larger and
+// centred 0.2 b lower, which fits the edges more tightly (a strong edge against the body). The
+// shoulder is a ledge below the lid, never its representative; the same member centred level
+// with the lid (a tighter fit of the lid's own outline) still is.
+TEST(FitClustering, ALedgeBelowTheTopIsNotItsBestFit) {
+  const Ellipse lid = Make(200, 150, 40, 25, 0.0, 2.0);
+  const Ellipse shoulder = Make(200, 155, 48, 30, 0.0, 1.9);  // y down: 5 px is lower
+  const Ellipse level = Make(200, 150, 41.5, 26, 0.0, 1.9);
+  EXPECT_TRUE(IsLedgeBelow(shoulder, lid));
+  EXPECT_FALSE(IsLedgeBelow(lid, shoulder));                              // smaller
+  EXPECT_FALSE(IsLedgeBelow(Make(200, 145, 48, 30, 0.0), lid));          // higher: a rim
+  EXPECT_FALSE(IsLedgeBelow(Make(200, 151.5, 48, 30, 0.0), lid));        // 0.06 b lower
+  EXPECT_FALSE(IsLedgeBelow(Make(200, 155, 42, 27, 0.0), lid));          // 1.06x: the same top
+  EXPECT_FALSE(IsLedgeBelow(Make(200, 155, 48, 47, 0.0), Make(200, 150, 40, 38, 0.0)));  // round
+  struct PreferLarger final : CandidateCheck {
+    bool Passes(const Candidate&) const override { return true; }
+    double FitShare(const Candidate& c, double) const override { return c.ellipse.a > 40 ? 1.0 : 0.8; }
+  };
+  const PreferLarger check;
+  auto representative = [&](const std::vector<Ellipse>& members) {
+    std::vector<Candidate> c(members.size());
+    for (std::size_t i = 0; i < members.size(); ++i) c[i].ellipse = members[i];
+    EXPECT_EQ(ClusterCandidates(&c, Options{}, &check), 1);
+    return c[0].ellipse;
+  };
+  EXPECT_DOUBLE_EQ(representative({lid, shoulder}).a, lid.a);
+  EXPECT_DOUBLE_EQ(representative({lid, level}).a, level.a);
+}
+
 TEST(FitClustering, RelativeRule) {
   Options o;
   o.cluster_rule = ClusterRule::kRelative;
