@@ -26,8 +26,8 @@ inline constexpr double kRimHalfCoverage = 0.9;
 inline constexpr double kRimHalfMinCoverage = 0.5;
 
 // A rim's far half stands against what lies behind the top, so the edge map backs it; a ledge
-// below the top (a lidded jar's shoulder, a bottle's cap over its neck) has its far half hidden
-// behind the top and is backed mostly along its near half. So when inner's minor axis points
+// below the top (a lidded jar's shoulder around its lid) has its far half hidden behind the top
+// and is backed mostly along its near half. So when inner's minor axis points
 // within 45 degrees of the image's up (|cos theta| >= kRimFarHalfMinUp: the far half is the upper
 // one), the rim's upper half must be backed over at least kRimFarHalfMinCoverage of its 32
 // sectors, whatever rule above accepted it. Measured (correct, `ellipsekit eval DIR`), off / 0.3
@@ -57,11 +57,10 @@ class RimContacts {
 // within ~26 degrees of the ellipse normal there; the scale whose +-1 px band has supporting
 // pixels in the most of 64 equal sectors of the ellipse's angle wins (ties: the smaller scale).
 // Returns true and sets *outer (scale = the mean radius of the band's pixels, score kept from
-// inner) when that coverage is >= min_coverage, or the half rule above holds, and the far half's
-// coverage passes. Scans only the
-// annulus between k_min * inner and k_max * inner, row by row (clipped to the frame);
-// *scanned_pixels = the pixels scanned, the work
-// done. With `contacts`, the contact rule above too. No allocation.
+// inner) when that coverage is >= min_coverage, or the half rule above holds, and the far half
+// passes. Scans only the annulus between k_min * inner and k_max * inner, row by row (clipped to
+// the frame); *scanned_pixels = the pixels scanned, the work done. With `contacts`, the contact
+// rule above too. No allocation.
 bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_coverage, Ellipse* outer,
                   long* scanned_pixels, const RimContacts* contacts = nullptr);
 

@@ -481,6 +481,7 @@ TEST(FitClustering, ALedgeBelowTheTopIsNotItsBestFit) {
   EXPECT_FALSE(IsLedgeBelow(Make(200, 151.5, 48, 30, 0.0), lid));        // 0.06 b lower
   EXPECT_FALSE(IsLedgeBelow(Make(200, 155, 42, 27, 0.0), lid));          // 1.06x: the same top
   EXPECT_FALSE(IsLedgeBelow(Make(200, 155, 48, 47, 0.0), Make(200, 150, 40, 38, 0.0)));  // round
+  EXPECT_FALSE(IsLedgeBelow(Make(200, 151.6, 9.6, 7.2, 0.0), Make(200, 150, 8, 6, 0.0)));  // b 6 px
   struct PreferLarger final : CandidateCheck {
     bool Passes(const Candidate&) const override { return true; }
     double FitShare(const Candidate& c, double) const override { return c.ellipse.a > 40 ? 1.0 : 0.8; }
