@@ -71,9 +71,7 @@ bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
 bool IsLedgeBelow(const Ellipse& ledge, const Ellipse& top) {
   if (!(top.b < kRoundAxisRatio * top.a)) return false;  // seen from above: no way is up
   if (!(top.b >= kLedgeMinTopB)) return false;
-  double ux, uy;
-  MinorAxisUp(top, &ux, &uy);
-  const double drop = -((ledge.cx - top.cx) * ux + (ledge.cy - top.cy) * uy);
+  const double drop = -CentreRise(ledge, top);
   return drop >= kLedgeMinDrop * top.b && ledge.a + ledge.b >= kLedgeMinScale * (top.a + top.b);
 }
 

@@ -50,6 +50,12 @@ void MinorAxisUp(const Ellipse& e, double* ux, double* uy) {
   }
 }
 
+double CentreRise(const Ellipse& e, const Ellipse& ref) {
+  double ux, uy;
+  MinorAxisUp(ref, &ux, &uy);
+  return (e.cx - ref.cx) * ux + (e.cy - ref.cy) * uy;
+}
+
 bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double* share) {
   const double before = share != nullptr && *share >= 0 ? *share : FineEdgeCoverage(in, *e);
   if (share != nullptr) *share = before;

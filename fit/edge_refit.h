@@ -51,4 +51,9 @@ bool FitToEdgesNearRounds(const EdgeMapView& in, double distance, int rounds, Ed
 // arc when the camera looks down on it.
 void MinorAxisUp(const Ellipse& e, double* ux, double* uy);
 
+// How far e's centre lies above ref's along ref's MinorAxisUp, px (negative: below): a rim around
+// a recessed lid rises above it (fit/recessed_rim.h), a jar's shoulder drops below its lid
+// (fit/clustering.h IsLedgeBelow).
+double CentreRise(const Ellipse& e, const Ellipse& ref);
+
 }  // namespace ellipsekit

@@ -13,9 +13,7 @@ constexpr double kBandPx = 2.0;  // FitToEdgesNear's distance for each refit
 
 bool IsRecessedRimOf(const Ellipse& rim, const Ellipse& lid) {
   const double c = std::cos(lid.theta), s = std::sin(lid.theta);
-  double ux, uy;
-  MinorAxisUp(lid, &ux, &uy);
-  const double up = (rim.cx - lid.cx) * ux + (rim.cy - lid.cy) * uy;
+  const double up = CentreRise(rim, lid);
   const double across = std::abs((rim.cx - lid.cx) * c + (rim.cy - lid.cy) * s);
   const double ka = rim.a / lid.a, kb = rim.b / lid.b;
   return up >= -0.05 * lid.b && up <= 0.35 * lid.b && across <= 0.15 * lid.b && ka >= 1.03 && ka <= 1.4 &&

@@ -151,6 +151,10 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     }
   }
   if (best < 0) return false;
+  // The far-half rule (kRimFarHalfMinCoverage) first: it rejects without the contacts' work.
+  // Sectors [0, 32) lie on the side of -v, which points up in the image when cos theta > 0.
+  const int upper_half = c > 0 ? std::popcount(best_band & 0xffffffffull) : std::popcount(best_band >> 32);
+  if (std::abs(c) >= kRimFarHalfMinUp && upper_half < kRimFarHalfMinCoverage * (kSectors / 2)) return false;
   double sum = 0;
   int n = 0;
   for (int j = std::max(0, best - half); j <= std::min(bins - 1, best + half); ++j) {
@@ -166,9 +170,6 @@ bool FindOuterRim(const EdgeMapView& in, const Ellipse& inner, double min_covera
     const int explained = std::popcount(contacts->Touching(inner, k) & ~best_band);
     if (best_covered < min_coverage * (kSectors - explained)) return false;
   }
-  // Sectors [0, 32) lie on the side of -v, which points up in the image when cos theta > 0.
-  const int upper_half = c > 0 ? std::popcount(best_band & 0xffffffffull) : std::popcount(best_band >> 32);
-  if (std::abs(c) >= kRimFarHalfMinUp && upper_half < kRimFarHalfMinCoverage * (kSectors / 2)) return false;
   *outer = inner;
   outer->a = k * inner.a;
   outer->b = k * inner.b;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/ellipse_test_util.h"
 #include "tools/eval/breakdown.h"
 #include "tools/eval/dataset.h"
 #include "tools/eval/ellipse_io.h"
@@ -33,14 +34,6 @@ bool ProjectRim(const TabletopScene& s, const TabletopTop& top, int k, int n, do
   *u = x[0] / x[2];
   *v = x[1] / x[2];
   return true;
-}
-
-// (x/a)^2 + (y/b)^2 of image point (u, v) in e's frame: 1 on the ellipse.
-double EllipseLevel(const Ellipse& e, double u, double v) {
-  const double dx = u - e.cx, dy = v - e.cy;
-  const double x = dx * std::cos(e.theta) + dy * std::sin(e.theta);
-  const double y = -dx * std::sin(e.theta) + dy * std::cos(e.theta);
-  return x * x / (e.a * e.a) + y * y / (e.b * e.b);
 }
 
 TEST(TabletopScenes, RefusesBadOptionsByName) {
@@ -97,6 +90,7 @@ TEST(TabletopScenes, TruthIsTheProjectedRim) {
     EXPECT_LE(s.truth.size(), 8u);
     for (std::size_t i = 0; i < s.truth.size(); ++i) {
       const Ellipse& e = s.truth[i];
+      const ellipsekit::test::TrueEllipse truth{e.cx, e.cy, e.a, e.b, e.theta};
       const TabletopTop& top = s.tops[i];
       EXPECT_GE(e.b, 5.0);
       EXPECT_GE(top.visible_fraction, Small().min_visible_fraction);
@@ -104,8 +98,8 @@ TEST(TabletopScenes, TruthIsTheProjectedRim) {
       for (int k = 0; k < 72; ++k) {
         double u = 0, v = 0;
         ASSERT_TRUE(ProjectRim(s, top, k, 72, &u, &v));
-        // 1e-3 is < 0.01 px at these sizes.
-        EXPECT_NEAR(EllipseLevel(e, u, v), 1.0, 1e-3) << "seed " << seed << " top " << i;
+        // (x/a)^2 + (y/b)^2 - 1 = 0 on the ellipse; 1e-3 is < 0.01 px at these sizes.
+        EXPECT_NEAR(truth.Algebraic({u, v}), 0.0, 1e-3) << "seed " << seed << " top " << i;
       }
       EXPECT_NE(top.kind, TabletopKind::kBottle) << "bottles only with TabletopSceneOptions::bottles";
       seen[static_cast<int>(top.kind)] = true;
@@ -135,11 +129,12 @@ TEST(TabletopScenes, BottleTruthIsTheCapRimHighAboveTheTable) {
       EXPECT_GE(top.rim_centre[2], 0.16);
       EXPECT_LE(top.rim_centre[2], 0.26);
       const Ellipse& e = s.truth[i];
+      const ellipsekit::test::TrueEllipse truth{e.cx, e.cy, e.a, e.b, e.theta};
       std::vector<double> steps;
       for (int k = 0; k < 36; ++k) {
         double u = 0, v = 0;
         ASSERT_TRUE(ProjectRim(s, top, k, 36, &u, &v));
-        EXPECT_NEAR(EllipseLevel(e, u, v), 1.0, 1e-3) << "seed " << seed << " top " << i;
+        EXPECT_NEAR(truth.Algebraic({u, v}), 0.0, 1e-3) << "seed " << seed << " top " << i;
         const double dx = u - e.cx, dy = v - e.cy, len = std::hypot(dx, dy);
         const int xi = static_cast<int>(std::lround(u - 2 * dx / len)), yi = static_cast<int>(std::lround(v - 2 * dy / len));
         const int xo = static_cast<int>(std::lround(u + 2 * dx / len)), yo = static_cast<int>(std::lround(v + 2 * dy / len));
