@@ -13,6 +13,7 @@
 
 #include "fit/obb.h"
 #include "kernels/canny_thresholds.h"
+#include "kernels/noise_sigma.h"
 #include "runtime/backend.h"
 #include "runtime/detector_impl.h"
 
@@ -61,6 +62,7 @@ Status ValidateOptions(const Options& o) {
   if (o.canny_high_permille < 0 || o.canny_high_permille > 1000) return Invalid("canny_high_permille must be in [0, 1000]");
   if (o.canny_low_permille < 0 || o.canny_low_permille > 1000) return Invalid("canny_low_permille must be in [0, 1000]");
   if (o.canny_min_high < 0 || o.canny_min_high > kMaxMagnitude) return Invalid("canny_min_high must be in [0, 2040]");
+  if (!Finite(o.denoise_min_sigma)) return Invalid("denoise_min_sigma must be a finite number (<= 0: never smooth more)");
   if (o.min_curve_points < 3) return Invalid("min_curve_points (T_n) must be >= 3");
   if (!Finite(o.obb_threshold) || o.obb_threshold < 0) return Invalid("obb_threshold (T_O) must be a finite number >= 0");
   if (!Finite(o.polyline_tolerance) || o.polyline_tolerance <= 0 || o.polyline_tolerance > 4)
@@ -233,20 +235,36 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
   const int w = width, h = height;
   const KernelTable& k = *kernels;
 
+  // A noisy frame is smoothed more before the edges (Options::denoise_min_sigma), here on the
+  // CPU for every backend, so that all of them see the same bytes. The smoothed frame lives in
+  // `nms`, which nothing reads or writes before the edge stage's own smoothing and Sobel are done
+  // with it (the Vulkan stage uploads it first).
+  ImageView input = image;
+  const double noise = options.denoise_min_sigma > 0 ? scalar::NoiseSigma(image.data, image.stride, w, h) : 0.0;
+  const int passes = options.denoise_min_sigma <= 0 || noise < options.denoise_min_sigma ? 0
+                     : noise < 1.5 * options.denoise_min_sigma                            ? 1
+                                                                                          : 2;
+  if (passes == 1) k.gaussian(image.data, image.stride, w, h, nms.data(), w);
+  if (passes == 2) {
+    k.gaussian(image.data, image.stride, w, h, blurred.data(), w);
+    k.gaussian(blurred.data(), w, w, h, nms.data(), w);
+  }
+  if (passes > 0) input = ImageView{nms.data(), w, h, w};
+
   // Edges (sec. II-A): on the Vulkan device, or with the CPU kernel table.
   Backend ran = k.backend;
 #ifdef ELLIPSEKIT_HAVE_VULKAN
   if (vulkan) {
-    const Status st = vulkan->Run(image, options, dx.data(), dy.data(), edge_map.data());
+    const Status st = vulkan->Run(input, options, dx.data(), dy.data(), edge_map.data());
     if (!st.ok()) return st;
     ran = Backend::kVulkan;
   } else
 #endif
   {
-    const std::uint8_t* src = image.data;
-    std::ptrdiff_t src_stride = image.stride;
+    const std::uint8_t* src = input.data;
+    std::ptrdiff_t src_stride = input.stride;
     if (options.gaussian_blur) {
-      k.gaussian(image.data, image.stride, w, h, blurred.data(), w);
+      k.gaussian(input.data, input.stride, w, h, blurred.data(), w);
       src = blurred.data();
       src_stride = w;
     }
@@ -269,6 +287,8 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
 
   front.ran = ran;
   front.edge_pixels = edge_pixels;
+  front.noise_sigma = noise;
+  front.denoise_passes = passes;
   front.edges_ms = Ms(t0, t1);
   front.curves_ms = Ms(t1, t2);
   front.arcs_ms = 0;
@@ -344,6 +364,8 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   r->simd_target = front.ran == Backend::kSimd ? kernels->simd_target : "";
   r->caps_hit = gs.caps_hit;
   r->num_edge_pixels = front.edge_pixels;
+  r->noise_sigma = front.noise_sigma;
+  r->denoise_passes = front.denoise_passes;
   r->num_curves = curves.size();
   r->num_arcs = static_cast<int>(arcs.size());
   r->num_pairs = gs.pairs;

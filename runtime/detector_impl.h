@@ -127,6 +127,8 @@ struct Detector::Impl {
     bool arcs_capped = false;
     bool arcs_done = false;  // the arc stage ran on the device; else the back end runs it
     int edge_pixels = 0;
+    double noise_sigma = 0;  // Options::denoise_min_sigma
+    int denoise_passes = 0;
     int short_curves = 0;  // curves of crowd_min_curve_points to min_curve_points - 1 points
     double total_ms = 0, edges_ms = 0, curves_ms = 0, arcs_ms = 0;
   } front;

@@ -68,6 +68,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"pair_reach", &Options::pair_reach},
       {"crowd_max_minor_axis", &Options::crowd_max_minor_axis},
       {"min_axis_ratio", &Options::min_axis_ratio},
+      {"denoise_min_sigma", &Options::denoise_min_sigma},
   };
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},

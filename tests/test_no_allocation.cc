@@ -19,6 +19,7 @@
 #include "ellipsekit/detector.h"
 #include "ellipsekit/stream.h"
 #include "tests/alloc_counter.h"
+#include "tools/eval/sensor_noise.h"
 #include "tools/scenes/crowded_scenes.h"
 #include "tools/scenes/scene_generator.h"
 
@@ -63,6 +64,14 @@ void CrowdedFrames(cv::Mat* a, cv::Mat* b) {
   *b = ellipsekit::scenes::RenderCrowdedScene(4, o).gray;
 }
 
+// Scenes 0 and 1 with sensor noise of standard deviation 7 and 11 added: one and two extra
+// smoothing passes before the edges (Options::denoise_min_sigma).
+void NoisyFrames(cv::Mat* a, cv::Mat* b) {
+  Frames(a, b);
+  ellipsekit::eval::AddSensorNoise(7, 1, a);
+  ellipsekit::eval::AddSensorNoise(11, 2, b);
+}
+
 // Two 640x480 frames of fine wavy stripes (periods 4 and 5 px): nearly half their pixels lie on
 // long edge curves, beyond the share of a busy frame that a Detector reserves for edge points
 // (runtime/detector.cc Resize: 1 in 8). The first grows those buffers, which keep what they grew
@@ -98,6 +107,13 @@ void ExpectNoAllocation(Backend backend, void (*frames)(cv::Mat*, cv::Mat*) = Fr
   ellipsekit::Status st;
   const AllocationCount first = CountedDetect(&det, a, &r, &st);
   ASSERT_TRUE(st.ok()) << st.message();
+  if (frames == NoisyFrames) {
+    ellipsekit::DetectionResult second;
+    ellipsekit::Status st2;
+    CountedDetect(&det, b, &second, &st2);
+    ASSERT_EQ(r.denoise_passes, 1) << r.noise_sigma;
+    ASSERT_EQ(second.denoise_passes, 2) << second.noise_sigma;
+  }
   if (frames == StripeFrames) {
     ASSERT_GT(r.num_edge_pixels, a.cols * a.rows / 4) << "the stripes no longer exceed the reserved share";
   }
@@ -129,6 +145,7 @@ TEST(NoAllocation, Scalar) { ExpectNoAllocation(Backend::kScalar); }
 TEST(NoAllocation, Simd) { ExpectNoAllocation(Backend::kSimd); }
 TEST(NoAllocation, Vulkan) { ExpectNoAllocation(Backend::kVulkan); }
 TEST(NoAllocation, CrowdedFrames) { ExpectNoAllocation(Backend::kSimd, CrowdedFrames); }
+TEST(NoAllocation, NoisyFrames) { ExpectNoAllocation(Backend::kSimd, NoisyFrames); }
 TEST(NoAllocation, EdgesBeyondTheReservedShare) { ExpectNoAllocation(Backend::kSimd, StripeFrames); }
 // A Stream allocates everything when it is created: submit() and wait() on frames of its size
 // allocate nothing, neither on the calling thread nor on its worker thread (once the caller's

@@ -61,6 +61,10 @@ struct DetectionResult {
   Backend arc_backend = Backend::kScalar;
   const char* simd_target = "";        // the Highway target that ran ("AVX2", ...) when backend is kSimd
   unsigned caps_hit = kCapNone;        // CapFlags
+  // The working level's noise (kernels/noise_sigma.h, grey levels; 0 when denoise_min_sigma <= 0)
+  // and the extra 3x3 binomial passes it asked for before the edges (Options::denoise_min_sigma).
+  double noise_sigma = 0;
+  int denoise_passes = 0;
   int num_edge_pixels = 0;
   int num_curves = 0;
   int num_arcs = 0;

@@ -80,6 +80,8 @@ py::dict CountsDict(const DetectionResult& r) {
   d["pairs"] = r.num_pairs;
   d["triplets"] = r.num_triplets;
   d["candidates"] = r.num_candidates;
+  d["noise_sigma"] = r.noise_sigma;
+  d["denoise_passes"] = r.denoise_passes;
   return d;
 }
 

@@ -125,7 +125,9 @@ def test_result_array_and_figures(gray, detector):
     assert list(r[:, 5]) == sorted(r[:, 5], reverse=True)
     assert set(r.timings) == {"edges_ms", "curves_ms", "arcs_ms", "fit_ms", "validate_ms", "total_ms"}
     assert r.timings["total_ms"] > 0
-    assert set(r.counts) == {"edge_pixels", "curves", "arcs", "pairs", "triplets", "candidates"}
+    assert set(r.counts) == {"edge_pixels", "curves", "arcs", "pairs", "triplets", "candidates", "noise_sigma",
+                             "denoise_passes"}
+    assert 0 <= r.counts["noise_sigma"] < 5 and r.counts["denoise_passes"] == 0
     assert r.counts["edge_pixels"] > 1000 and r.counts["arcs"] > 0
     assert r.caps_hit == [] and r.backend == "simd" and r.simd_target != "" and r.input_copied is False
     # figures follow slices and survive pickling

@@ -28,9 +28,9 @@ const char kDetectUsage[] =
     "  --repeat R        timed detections per image, R >= 1 (default 1)\n"
     "  --warmup W        untimed detections per image before them, W >= 0 (default 1)\n"
     "  --format F        txt (default) or json\n"
-    "  --exact           json: each ellipse's numbers with 17 significant digits, so that read back\n"
-    "                    they are the detector's doubles bit for bit (default: 4 decimals for px,\n"
-    "                    6 for theta and score)\n"
+    "  --exact           json: each ellipse's numbers and noise_sigma with 17 significant digits, so\n"
+    "                    that read back they are the detector's doubles bit for bit (default: 4\n"
+    "                    decimals for px, 6 for theta, score and noise_sigma)\n"
     "  --draw DIR        write DIR/<image stem>.png: the image with the ellipses drawn in green\n"
     "  -h, --help        this text\n"
     "\n"
@@ -40,7 +40,8 @@ const char kDetectUsage[] =
     "json output: one array of {path, median_ms, backend, [simd_target,] [arc_backend (when the arc\n"
     "  stage ran elsewhere: Vulkan's on the CPU),] ellipses: [{cx, cy, a, b, theta, score}],\n"
     "  timings: {edges_ms, curves_ms, arcs_ms, fit_ms, validate_ms, total_ms} (per-stage medians),\n"
-    "  counts: {edge_pixels, curves, arcs, pairs, triplets, candidates, caps_hit}} (the last run;\n"
+    "  counts: {edge_pixels, curves, arcs, pairs, triplets, candidates, noise_sigma,\n"
+    "  denoise_passes, caps_hit}} (the last run;\n"
     "  caps_hit names the caps that bounded the work (CapName in ellipsekit/detector.h), [] when none).\n"
     "Conventions: pixel centres at integers, x right, y down; a >= b semi-axes in px; theta in rad,\n"
     "the major axis along (cos theta, sin theta) (OpenCV RotatedRect angle).\n"
@@ -106,7 +107,9 @@ std::string ReportJson(const ImageReport& r, bool exact) {
   s += "   \"counts\": {\"edge_pixels\": " + std::to_string(d.num_edge_pixels) + ", \"curves\": " +
        std::to_string(d.num_curves) + ", \"arcs\": " + std::to_string(d.num_arcs) + ", \"pairs\": " +
        std::to_string(d.num_pairs) + ", \"triplets\": " + std::to_string(d.num_triplets) +
-       ", \"candidates\": " + std::to_string(d.num_candidates) + ", \"caps_hit\": [";
+       ", \"candidates\": " + std::to_string(d.num_candidates) + ", \"noise_sigma\": " + unit(d.noise_sigma) +
+       ", \"denoise_passes\": " + std::to_string(d.denoise_passes) +
+       ", \"caps_hit\": [";
   bool first = true;
   for (const CapFlags flag : kAllCaps) {
     if ((d.caps_hit & flag) == 0) continue;

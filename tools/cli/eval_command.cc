@@ -26,6 +26,7 @@
 #include "tools/eval/errors.h"
 #include "tools/eval/metrics.h"
 #include "tools/eval/pr_curve.h"
+#include "tools/eval/sensor_noise.h"
 
 namespace ellipsekit::cli {
 
@@ -48,6 +49,9 @@ const char kEvalUsage[] =
     "  --scale S         resize every image by S (0.1 to 8; cubic up, area down: the soft edges of a\n"
     "                    higher-resolution camera) and its truth alike (centres (c + 0.5) S - 0.5,\n"
     "                    axes S times), to measure how detection holds across resolutions\n"
+    "  --noise SIGMA     add white Gaussian noise of standard deviation SIGMA grey levels (0 to 64) to\n"
+    "                    every image (after --scale; rounded, saturated), drawn from a generator seeded\n"
+    "                    by the image's stem, the same on every run: how detection holds on a noisy sensor\n"
     "  --per-image       print one line per image before the totals\n"
     "  --curve FILE.png  sweep the score threshold: write the precision-recall curve to FILE.png and\n"
     "                    its points to FILE.csv, print the average precision (tools/eval/pr_curve.h)\n"
@@ -72,6 +76,7 @@ struct EvalArgs {
   Options options;
   bool per_image = false;
   double scale = 1;
+  double noise = 0;  // --noise
   std::string json_path;
   std::string draw_dir;
   std::string scaled_dir;  // --write-scaled
@@ -133,6 +138,8 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
       if (a.draw_dir.empty()) throw UsageError("--draw needs a directory");
     } else if (name == "--scale") {
       a.scale = ParseDoubleValue(name, r.Value(), 0.1, 8);
+    } else if (name == "--noise") {
+      a.noise = ParseDoubleValue(name, r.Value(), 0, 64);
     } else if (name == "--by") {
       const std::string v = r.Value();
       if (!eval::ParseGroupBy(v, &a.by)) throw UsageError("--by: bad value '" + v + "' (kind, size, visibility, all)");
@@ -265,6 +272,7 @@ int RunEval(const std::vector<std::string>& argv) {
       st = Status(StatusCode::kInvalidArgument, item.image_path + ": " + error);
     } else if (st = eval::ReadEllipses(item.truth_path, &truth); st.ok()) {
       if (args.scale != 1) Rescale(args.scale, &image.gray, &truth);
+      eval::AddSensorNoise(args.noise, eval::StemSeed(item.stem), &image.gray);  // --noise
       const ImageView view = ViewOf(image.gray);
       if (!warmed_up) {
         st = detector.detect(view, &result);
