@@ -16,7 +16,8 @@ class Detections(np.ndarray):
     Attributes (the frame's figures, also carried by slices and views of the array):
       timings      dict of stage wall times in ms: edges_ms, curves_ms, arcs_ms, fit_ms,
                    validate_ms, total_ms
-      counts       dict: edge_pixels, curves, arcs, pairs, triplets, candidates
+      counts       dict: edge_pixels, curves, arcs, pairs, triplets, candidates, noise_sigma (the
+                   frame's noise, grey levels), denoise_passes (extra smoothing passes it asked for)
       caps_hit     list of the caps that bounded the work ("max_triplets", ...); [] when none,
                    otherwise the result may be partial
       backend      the backend that ran: "scalar", "simd" or "vulkan"
