@@ -22,6 +22,9 @@ double NoiseSigma(const std::uint8_t* src, std::ptrdiff_t src_stride, int width,
     const std::uint8_t* mid = up + src_stride;
     const std::uint8_t* down = mid + src_stride;
     for (int x = 1; x + 1 < width; x += step) {
+      // A clipped pixel (0 or 255) has lost its noise: a dark or saturated half of a frame would
+      // pull the median to 0.
+      if (mid[x] == 0 || mid[x] == 255) continue;
       // [1 -2 1] along each of the three rows, then [1 -2 1] down.
       const int a = up[x - 1] - 2 * up[x] + up[x + 1];
       const int b = mid[x - 1] - 2 * mid[x] + mid[x + 1];
@@ -30,6 +33,7 @@ double NoiseSigma(const std::uint8_t* src, std::ptrdiff_t src_stride, int width,
       ++samples;
     }
   }
+  if (samples == 0) return 0.0;  // every sample clipped
   // The lower median: the smallest value with at least half of the samples at or below it.
   const std::uint64_t half = (samples + 1) / 2;
   std::uint64_t seen = 0;

@@ -3,7 +3,8 @@
 // Math:   L(x, y) = sum_{i,j in -1..1} k_i k_j src(x+i, y+j),  k = {1, -2, 1} (Immerkaer 1996):
 //         zero on any plane, and on white noise of standard deviation s a normal variable of
 //         standard deviation 6 s. sigma = median |L| / (6 * 0.6745) over the interior pixels
-//         (x, y) = (1 + i step, 1 + j step), step = NoiseSampleStep (at most ~kNoiseSamples).
+//         (x, y) = (1 + i step, 1 + j step), step = NoiseSampleStep (at most ~kNoiseSamples),
+//         leaving out those whose own value is 0 or 255 (clipped: their noise is cut off).
 //         The median, not Immerkaer's mean: edges and texture are a minority of a frame's pixels
 //         and move the median little, so a sharp photograph reads 0-1.3 grey levels and the same
 //         photograph with noise of standard deviation 4 / 8 added reads 4.2 / 8.2 (docs/noise.md).
@@ -26,7 +27,8 @@ inline constexpr int kNoiseMaxAbsLaplacian = 255;  // sigma up to 63 grey levels
 // most ~kNoiseSamples samples.
 int NoiseSampleStep(int width, int height);
 
-// src: width x height bytes, rows src_stride bytes apart. 0 when width or height < 3.
+// src: width x height bytes, rows src_stride bytes apart. 0 when width or height < 3 or every
+// sample is clipped.
 double NoiseSigma(const std::uint8_t* src, std::ptrdiff_t src_stride, int width, int height);
 
 }  // namespace ellipsekit::scalar
