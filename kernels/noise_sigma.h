@@ -11,8 +11,8 @@
 // Units:  grey levels (0-255 scale), in steps of 1 / (6 * 0.6745) = 0.247 (|L| is an integer).
 // Exact:  an integer histogram, one division at the end; one scalar function that runs on the
 //         CPU before every backend's edge stage, so all backends see the same smoothed frame.
-// Cost:   at most ~kNoiseSamples samples whatever the frame's size (~35 instructions each); no allocation (|L| is clamped to
-//         kNoiseMaxAbsLaplacian: a 1 KiB histogram on the stack).
+// Cost:   at most ~kNoiseSamples samples whatever the frame's size (~35 instructions each); no
+//         allocation (|L| is clamped to kNoiseMaxAbsLaplacian: a 1 KiB histogram on the stack).
 #pragma once
 
 #include <cstddef>
@@ -21,10 +21,10 @@
 namespace ellipsekit::scalar {
 
 inline constexpr int kNoiseSamples = 4096;
-inline constexpr int kNoiseMaxAbsLaplacian = 255;  // sigma up to 63 grey levels: beyond any frame smoothed
+inline constexpr int kNoiseMaxAbsLaplacian = 255;  // sigma up to 63 grey levels: beyond any threshold
 
-// The sampling grid's step in x and y: ceil(sqrt(interior pixels / kNoiseSamples)), at least 1, so at
-// most ~kNoiseSamples samples.
+// The sampling grid's step in x and y: ceil(sqrt(interior pixels / kNoiseSamples)), at least 1, so
+// at most ~kNoiseSamples samples.
 int NoiseSampleStep(int width, int height);
 
 // src: width x height bytes, rows src_stride bytes apart. 0 when width or height < 3 or every

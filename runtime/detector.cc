@@ -240,10 +240,12 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
   // `nms`, which nothing reads or writes before the edge stage's own smoothing and Sobel are done
   // with it (the Vulkan stage uploads it first).
   ImageView input = image;
-  const double noise = options.denoise_min_sigma > 0 ? scalar::NoiseSigma(image.data, image.stride, w, h) : 0.0;
-  const int passes = options.denoise_min_sigma <= 0 || noise < options.denoise_min_sigma ? 0
-                     : noise < 1.5 * options.denoise_min_sigma                            ? 1
-                                                                                          : 2;
+  double noise = 0;
+  int passes = 0;
+  if (options.denoise_min_sigma > 0) {
+    noise = scalar::NoiseSigma(image.data, image.stride, w, h);
+    passes = noise >= 1.5 * options.denoise_min_sigma ? 2 : noise >= options.denoise_min_sigma ? 1 : 0;
+  }
   if (passes == 1) k.gaussian(image.data, image.stride, w, h, nms.data(), w);
   if (passes == 2) {
     k.gaussian(image.data, image.stride, w, h, blurred.data(), w);

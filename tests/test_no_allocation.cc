@@ -111,6 +111,7 @@ void ExpectNoAllocation(Backend backend, void (*frames)(cv::Mat*, cv::Mat*) = Fr
     ellipsekit::DetectionResult second;
     ellipsekit::Status st2;
     CountedDetect(&det, b, &second, &st2);
+    ASSERT_TRUE(st2.ok()) << st2.message();
     ASSERT_EQ(r.denoise_passes, 1) << r.noise_sigma;
     ASSERT_EQ(second.denoise_passes, 2) << second.noise_sigma;
   }
