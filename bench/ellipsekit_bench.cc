@@ -190,7 +190,8 @@ void RunKernel(benchmark::State& st, const std::string& kernel, std::int64_t tar
     const ek::Options o;
     for (auto _ : st) {
       t.magnitude_histogram(p.mag.data(), w, h, w, hist.data());
-      th = ek::ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
+      th = ek::ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                                       o.canny_contrast_ref);
       benchmark::DoNotOptimize(th);
     }
     bytes = 2 * n;
@@ -341,7 +342,7 @@ void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   k.sobel(b->blurred.data(), w, w, h, b->dx.data(), b->dy.data(), b->mag.data(), w);
   k.magnitude_histogram(b->mag.data(), w, h, w, b->hist.data());
   const ek::CannyThresholds th = ek::ThresholdsFromHistogram(b->hist.data(), o.canny_high_permille, o.canny_low_permille,
-                                                             o.canny_min_high);
+                                                             o.canny_min_high, o.canny_contrast_ref);
   k.nms(b->dx.data(), b->dy.data(), b->mag.data(), w, h, w, th.low, th.high, b->nms.data(), w);
   k.hysteresis(b->nms.data(), w, h, w, b->stack.data());
   k.edge_sign(b->nms.data(), w, b->dx.data(), b->dy.data(), w, w, h, b->edges.data(), w);

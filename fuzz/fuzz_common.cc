@@ -24,7 +24,10 @@ void EditOption(int field, int v, Options* o) {
     case 0: o->gaussian_blur = (v & 1) != 0; break;
     case 1: o->canny_high_permille = v; break;
     case 2: o->canny_low_permille = v; break;
-    case 3: o->canny_min_high = v; break;
+    case 3:  // the floor, and on odd values the contrast it follows (kernels/canny_thresholds.h)
+      o->canny_min_high = v;
+      if (v & 1) o->canny_contrast_ref = v / 2;
+      break;
     case 4: o->min_curve_points = v; break;
     case 5: o->obb_rule = (v & 1) ? ObbRule::kSideRatio : ObbRule::kMinSide; o->obb_threshold = d; break;
     case 6: o->polyline_tolerance = d; break;

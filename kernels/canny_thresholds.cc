@@ -4,22 +4,35 @@
 
 namespace ellipsekit {
 
-CannyThresholds ThresholdsFromHistogram(const std::uint32_t* hist, int high_permille, int low_permille,
-                                        int min_high) {
-  std::int64_t count = 0;
-  for (int m = 0; m <= kMaxMagnitude; ++m) count += hist[m];
-  const std::int64_t target = static_cast<std::int64_t>(high_permille) * count;
+namespace {
+
+// Q(permille): the smallest h with 1000 * #{mag <= h} >= permille * count; kMaxMagnitude if none.
+int Quantile(const std::uint32_t* hist, std::int64_t count, int permille) {
+  const std::int64_t target = static_cast<std::int64_t>(permille) * count;
   std::int64_t below = 0;
-  int h = kMaxMagnitude;
   for (int m = 0; m <= kMaxMagnitude; ++m) {
     below += hist[m];
-    if (1000 * below >= target) {
-      h = m;
-      break;
+    if (1000 * below >= target) return m;
+  }
+  return kMaxMagnitude;
+}
+
+}  // namespace
+
+CannyThresholds ThresholdsFromHistogram(const std::uint32_t* hist, int high_permille, int low_permille,
+                                        int min_high, int contrast_ref) {
+  std::int64_t count = 0;
+  for (int m = 0; m <= kMaxMagnitude; ++m) count += hist[m];
+  int floor_high = min_high;
+  if (contrast_ref > 0) {
+    const int contrast = Quantile(hist, count, kContrastPermille);
+    if (contrast < contrast_ref) {
+      const int noise = kNoiseFloorFactor * Quantile(hist, count, kNoisePermille);
+      floor_high = std::min(min_high, std::max({min_high * contrast / contrast_ref, min_high / 4, noise}));
     }
   }
   CannyThresholds t;
-  t.high = std::max(h, min_high);
+  t.high = std::max(Quantile(hist, count, high_permille), floor_high);
   t.low = t.high * low_permille / 1000;
   return t;
 }

@@ -62,6 +62,8 @@ Status ValidateOptions(const Options& o) {
   if (o.canny_high_permille < 0 || o.canny_high_permille > 1000) return Invalid("canny_high_permille must be in [0, 1000]");
   if (o.canny_low_permille < 0 || o.canny_low_permille > 1000) return Invalid("canny_low_permille must be in [0, 1000]");
   if (o.canny_min_high < 0 || o.canny_min_high > kMaxMagnitude) return Invalid("canny_min_high must be in [0, 2040]");
+  if (o.canny_contrast_ref < 0 || o.canny_contrast_ref > kMaxMagnitude)
+    return Invalid("canny_contrast_ref must be in [0, 2040] (0: a fixed floor)");
   if (!Finite(o.denoise_min_sigma)) return Invalid("denoise_min_sigma must be a finite number (<= 0: never smooth more)");
   if (o.min_curve_points < 3) return Invalid("min_curve_points (T_n) must be >= 3");
   if (!Finite(o.obb_threshold) || o.obb_threshold < 0) return Invalid("obb_threshold (T_O) must be a finite number >= 0");
@@ -272,8 +274,8 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
     }
     k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
     k.magnitude_histogram(mag.data(), w, h, w, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), options.canny_high_permille,
-                                                       options.canny_low_permille, options.canny_min_high);
+    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), options.canny_high_permille, options.canny_low_permille,
+                                                       options.canny_min_high, options.canny_contrast_ref);
     k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
     k.hysteresis(nms.data(), w, h, w, stack.data());
     k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edge_map.data(), w);

@@ -165,12 +165,13 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   vk.vkCmdFillBuffer(cb, buffers_[kHist].buffer, 0, VK_WHOLE_SIZE, 0u);
   program_.Barrier(cb, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kRW);
   const std::uint32_t plane_row_vec4 = 4 * mask_words_;
-  const std::uint32_t frame_push[kPushWords] = {uw,      uh,      rec.need,         padded_row_vec4_,
-                                                chunks_, plane_row_vec4, rec.low_permille, rec.min_high};
+  const std::uint32_t frame_push[kPushWords] = {uw,      uh,           rec.need,         padded_row_vec4_,
+                                                chunks_, plane_row_vec4, rec.low_permille, rec.min_high,
+                                                rec.contrast_need, rec.contrast_ref, rec.noise_need};
   Dispatch1D(cb, rec.blur ? kGaussianSobelThresholds : kSobelThresholds, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepGaussianSobelThresholds);
-  const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, 0, 0};
+  const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, 0, 0, 0, 0, 0};
   Dispatch1D(cb, kNmsEdgeSign, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepNmsEdgeSign);
@@ -216,16 +217,21 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   }
   ctx_->FlushHostWrites(buffers_[kImage]);
 
-  // 1000 * below >= high_permille * N  <=>  below >= ceil(high_permille * N / 1000).
-  const std::uint64_t need = (static_cast<std::uint64_t>(std::max(options.canny_high_permille, 0)) * counted + 999) / 1000;
+  // 1000 * below >= p * N  <=>  below >= ceil(p * N / 1000).
+  auto need_for = [counted](int permille) {
+    return static_cast<std::uint32_t>((static_cast<std::uint64_t>(std::max(permille, 0)) * counted + 999) / 1000);
+  };
   const Recording want{w,
                        h,
                        options.gaussian_blur,
                        timing_ && program_.timed(),
                        HysteresisBlockPasses(h),
-                       static_cast<std::uint32_t>(need),
+                       need_for(options.canny_high_permille),
                        static_cast<std::uint32_t>(options.canny_low_permille),
-                       static_cast<std::uint32_t>(options.canny_min_high)};
+                       static_cast<std::uint32_t>(options.canny_min_high),
+                       need_for(kContrastPermille),
+                       static_cast<std::uint32_t>(options.canny_contrast_ref),
+                       need_for(kNoisePermille)};
   if (!(recorded_ == want)) {
     st = Record(want);
     if (!st.ok()) return st;

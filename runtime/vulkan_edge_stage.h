@@ -93,7 +93,8 @@ class VulkanEdgeStage {
     int width = 0, height = 0;
     bool blur = false, timed = false;
     int block_passes = 0;  // hysteresis_blocks.comp dispatches
-    std::uint32_t need = 0, low_permille = 0, min_high = 0;  // the thresholds' push constants
+    // The thresholds' push constants (shaders/gaussian_sobel_thresholds.comp).
+    std::uint32_t need = 0, low_permille = 0, min_high = 0, contrast_need = 0, contrast_ref = 0, noise_need = 0;
     bool operator==(const Recording&) const = default;
   };
 
@@ -122,7 +123,7 @@ class VulkanEdgeStage {
   std::uint32_t chunks_ = 0;           // 16-pixel chunks per row: ceil(width / 16)
   std::uint32_t padded_row_vec4_ = 0;  // uvec4 per row of the padded frame: chunks_ + 2
   std::uint32_t mask_words_ = 0;       // 32-pixel hysteresis mask words per row: ceil(width / 32)
-  static constexpr std::uint32_t kPushWords = 8;
+  static constexpr std::uint32_t kPushWords = 11;
   double last_device_ms_ = -1;
   double last_step_ms_[kNumSteps] = {-1, -1, -1, -1};
 };

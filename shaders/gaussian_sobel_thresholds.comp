@@ -9,10 +9,13 @@
 //   |dx|, |dy| <= 1020, mag = |dx| + |dy| <= 2040 (not stored: nms recomputes it, cheaper than a
 //   third plane of stores on lavapipe);
 //   hist[m] = #{pixels with mag == m on rows y % kRowStep == 0} (kHistogramRowStep), N = w * those rows;
-//   high = max(min_high, smallest h with 1000 * #{mag <= h} >= high_permille * N), 2040 if none;
-//   low = high * low_permille / 1000,
-// with the 64-bit product moved to the host: pc.a = need = ceil(high_permille * N / 1000), and
-// 1000 * below >= high_permille * N  <=>  below >= need  for integer below.
+//   Q(p) = smallest h with 1000 * #{mag <= h} >= p * N, 2040 if none;
+//   floor = min_high when contrast_ref == 0 or Q(995) >= contrast_ref,
+//           else min(min_high, max(min_high * Q(995) / contrast_ref, min_high / 4, 3 * Q(500)));
+//   high = max(floor, Q(high_permille)), low = high * low_permille / 1000,
+// with the 64-bit products moved to the host: pc.a = ceil(high_permille * N / 1000), pc.g =
+// ceil(995 * N / 1000), pc.i = ceil(500 * N / 1000), and 1000 * below >= p * N  <=>
+// below >= ceil(p * N / 1000) for integer below.
 // BLUR: specialisation constant 0 (1: Gaussian first, 0: Sobel of the frame as uploaded). A
 // constant, not a push constant: lavapipe runs both sides of a branch (masked).
 // One dispatch, not three: on lavapipe every dispatch wakes the driver's worker threads, which
@@ -44,8 +47,10 @@ layout(std430, set = 0, binding = 2) writeonly buffer Dy { uvec4 dy[]; };
 // their count.
 layout(std430, set = 0, binding = 3) coherent buffer Hist { uint hist[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Thresholds { uint params[]; };
-// e = low_permille, f = min_high.
-layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; uint e; uint f; } pc;
+// e = low_permille, f = min_high, g = Q(995)'s count, h = contrast_ref, i = Q(500)'s count.
+layout(push_constant) uniform Params {
+  uint width; uint height; uint a; uint b; uint c; uint d; uint e; uint f; uint g; uint h; uint i;
+} pc;
 
 layout(constant_id = 0) const uint BLUR = 1u;
 const uint kRows = 8u;               // a multiple of kRowStep
@@ -162,6 +167,22 @@ void Store(int y, uint cx, Chunk a, Chunk b, Chunk c) {
   }
 }
 
+// Q: the smallest bin b with #{mag <= b} >= need, kBins - 1 if none (from the per-thread sums
+// `partial`, then the bins of the one thread's range that reaches need).
+uint Quantile(uint need) {
+  uint below = 0u;
+  for (uint t = 0u; t < kGroupSize; ++t) {
+    if (below + partial[t] < need) { below += partial[t]; continue; }
+    for (uint k = 0u; k < kBinsPerThread; ++k) {
+      uint b = t * kBinsPerThread + k;
+      if (b >= kBins) break;
+      below += hist[b];
+      if (below >= need) return b;
+    }
+  }
+  return kBins - 1u;
+}
+
 // The thresholds from the complete histogram (the last workgroup; every invocation calls it).
 void Select() {
   uint lid = gl_LocalInvocationID.x;
@@ -173,20 +194,12 @@ void Select() {
   partial[lid] = sum;
   barrier();
   if (lid != 0u) return;
-  uint need = pc.a;
-  uint below = 0u;
-  uint h = kBins - 1u;
-  bool found = false;
-  for (uint t = 0u; t < kGroupSize && !found; ++t) {
-    if (below + partial[t] < need) { below += partial[t]; continue; }
-    for (uint k = 0u; k < kBinsPerThread; ++k) {
-      uint b = t * kBinsPerThread + k;
-      if (b >= kBins) break;
-      below += hist[b];
-      if (below >= need) { h = b; found = true; break; }
-    }
+  uint floor_high = pc.f;
+  if (pc.h != 0u) {
+    uint contrast = Quantile(pc.g);
+    if (contrast < pc.h) floor_high = min(pc.f, max(max(pc.f * contrast / pc.h, pc.f / 4u), 3u * Quantile(pc.i)));
   }
-  uint high = max(h, pc.f);
+  uint high = max(Quantile(pc.a), floor_high);
   params[0] = high * pc.e / 1000u;
   params[1] = high;
 }

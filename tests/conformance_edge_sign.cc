@@ -35,7 +35,7 @@ TEST(ConformanceEdgeSign, AllImagesAllTargets) {
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
     ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8);
+    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8, 0);
     const std::ptrdiff_t edge_stride = g.width + 2;
     std::vector<std::uint8_t> edges(static_cast<std::size_t>(edge_stride) * g.height, 0);
     std::vector<std::int32_t> stack(static_cast<std::size_t>(g.width) * g.height);

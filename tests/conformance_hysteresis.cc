@@ -32,7 +32,7 @@ TEST(ConformanceHysteresis, AllImagesAllTargets) {
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
     ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8);
+    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8, 0);
     std::vector<std::uint8_t> nms(static_cast<std::size_t>(g.stride) * g.height, kSentinel);
     ScalarKernels().nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, th.low,
                         th.high, nms.data(), g.stride);

@@ -25,7 +25,7 @@ TEST(ConformanceNms, AllImagesAllTargets) {
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
     ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8);
+    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8, 0);
     CheckNms(SizeOf(c), g, th.low, th.high, c.out_pad);
     CheckNms(SizeOf(c), g, 0, 0, c.out_pad);  // every local maximum counts
   }

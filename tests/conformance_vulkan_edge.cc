@@ -107,6 +107,39 @@ TEST(ConformanceVulkanEdge, RandomSizes) {
   }
 }
 
+// Dim frames, whose strongest gradients stay under canny_contrast_ref: the device lowers the
+// threshold floor from its own quantiles (kernels/canny_thresholds.h) exactly as the host does.
+// Each frame is checked to be one where the lowered floor, above Q(900) and under min_high, is the
+// high threshold: set by the contrast (a little noise) or by the noise bound 3 x Q(500) (more).
+// Noise spreads the magnitudes over every level, so a floor one level off shows.
+TEST(ConformanceVulkanEdge, DimFramesLowerTheFloor) {
+  REQUIRE_VULKAN(stage);
+  std::uint32_t seed = 300;
+  for (const int noise : {2, 9}) {
+    for (const auto& s : {std::pair{640, 480}, std::pair{333, 250}, std::pair{1280, 720}}) {
+      const int w = s.first, h = s.second;
+      const std::string what = "dim shapes " + std::to_string(w) + "x" + std::to_string(h) + ", noise " + std::to_string(noise);
+      auto img = Shapes(w, h, seed++);
+      std::mt19937 rng(seed);
+      for (auto& v : img) v = static_cast<std::uint8_t>(100 + v / 8 + rng() % noise);  // contrast / 8
+      std::vector<std::uint8_t> blurred(img.size());
+      std::vector<std::int16_t> dx(img.size()), dy(img.size());
+      std::vector<std::uint16_t> mag(img.size());
+      std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
+      scalar::Gaussian(img.data(), w, w, h, blurred.data(), w);
+      scalar::Sobel(blurred.data(), w, w, h, dx.data(), dy.data(), mag.data(), w);
+      scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
+      const Options o;
+      const int high = ThresholdsFromHistogram(hist.data(), 900, 400, o.canny_min_high, o.canny_contrast_ref).high;
+      auto quantile = [&](int permille) { return ThresholdsFromHistogram(hist.data(), permille, 0, 0, 0).high; };
+      ASSERT_GT(high, quantile(900)) << what << ": the floor must decide";
+      ASSERT_LT(high, o.canny_min_high) << what << ": the floor must be lowered";
+      if (noise > 2) ASSERT_EQ(high, kNoiseFloorFactor * quantile(kNoisePermille)) << what << ": the noise must set it";
+      ExpectSameBothBlurs(stage, ImageView{img.data(), w, h, w}, what);
+    }
+  }
+}
+
 TEST(ConformanceVulkanEdge, OddSizesAndPaddedStride) {
   REQUIRE_VULKAN(stage);
   const int sizes[][2] = {{3, 1}, {1, 4}, {15, 16}, {16, 15}, {17, 17}, {255, 3}, {3, 257}, {101, 67}};

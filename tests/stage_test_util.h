@@ -59,7 +59,7 @@ inline void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
   scalar::Sobel(src, src_stride, w, h, out->dx.data(), out->dy.data(), mag.data(), w);
   scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
   const CannyThresholds th =
-      ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
+      ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref);
   scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
   scalar::Hysteresis(nms.data(), w, h, w, stack.data());
   scalar::EdgeSign(nms.data(), w, out->dx.data(), out->dy.data(), w, w, h, out->edge_map.data(), w);

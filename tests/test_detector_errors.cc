@@ -87,6 +87,8 @@ TEST(DetectorErrors, EachInvalidOptionIsNamed) {
       {"canny_low_permille", [](Options* o) { o->canny_low_permille = 1001; }},
       {"canny_min_high", [](Options* o) { o->canny_min_high = -3; }},
       {"canny_min_high", [](Options* o) { o->canny_min_high = 5000; }},
+      {"canny_contrast_ref", [](Options* o) { o->canny_contrast_ref = -1; }},
+      {"canny_contrast_ref", [](Options* o) { o->canny_contrast_ref = 2041; }},
       {"min_curve_points", [](Options* o) { o->min_curve_points = 2; }},
       {"obb_threshold", [&](Options* o) { o->obb_threshold = nan; }},
       {"obb_threshold", [](Options* o) { o->obb_threshold = -1; }},

@@ -176,7 +176,7 @@ OurCanny RunOurs(const cv::Mat& g, const Options& o) {
   scalar::Sobel(r.blurred.data, w, w, h, dx.data(), dy.data(), mag.data(), w);
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
-  r.th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
+  r.th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref);
   r.edges.create(h, w, CV_8UC1);
   scalar::Nms(dx.data(), dy.data(), mag.data(), w, h, w, r.th.low, r.th.high, r.edges.data, w);
   std::vector<std::int32_t> stack(n);

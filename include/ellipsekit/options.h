@@ -85,6 +85,10 @@ struct Options {
   int canny_high_permille = 900;    // high threshold = this per-mille quantile of gradient magnitude
   int canny_low_permille = 400;     // low threshold = high * this / 1000
   int canny_min_high = 40;          // floor for the high threshold (L1 Sobel magnitude units)
+  // A frame whose 99.5th-percentile gradient magnitude is under this gets the floor lowered in
+  // proportion, never under canny_min_high / 4 nor 3x its median magnitude (its noise):
+  // kernels/canny_thresholds.h, measured in docs/contrast.md; 0: a fixed floor.
+  int canny_contrast_ref = 200;
   // A noisy frame (kernels/noise_sigma.h: its noise's standard deviation, grey levels) is smoothed
   // by one more 3x3 binomial pass before the edges when its noise is >= denoise_min_sigma, and by
   // two when >= 1.5 x denoise_min_sigma (measured in docs/noise.md); <= 0: never.

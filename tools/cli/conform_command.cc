@@ -194,8 +194,8 @@ void RunEdgeChain(const KernelTable& k, const ImageView& img, const Options& o, 
   k.sobel(src, src_stride, w, h, e->dx.data(), e->dy.data(), e->mag.data(), e->dx.stride);
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   k.magnitude_histogram(e->mag.data(), w, h, e->mag.stride, hist.data());
-  e->th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille,
-                                  o.canny_low_permille, o.canny_min_high);
+  e->th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                                  o.canny_contrast_ref);
   e->nms = Plane<std::uint8_t>(w, h);
   k.nms(e->dx.data(), e->dy.data(), e->mag.data(), w, h, e->dx.stride, e->th.low, e->th.high, e->nms.data(),
         e->nms.stride);
@@ -278,7 +278,8 @@ void CompareTable(const KernelTable& k, const ImageView& img, const Options& o, 
 
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   k.magnitude_histogram(r.mag.data(), w, h, r.mag.stride, hist.data());
-  const CannyThresholds th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high);
+  const CannyThresholds th =
+      ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref);
   rep->Line(image, label, "thresholds", (th.low != r.th.low) + (th.high != r.th.high));
 
   Plane<std::uint8_t> nms(w, h);

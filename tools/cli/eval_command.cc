@@ -49,6 +49,8 @@ const char kEvalUsage[] =
     "  --scale S         resize every image by S (0.1 to 8; cubic up, area down: the soft edges of a\n"
     "                    higher-resolution camera) and its truth alike (centres (c + 0.5) S - 0.5,\n"
     "                    axes S times), to measure how detection holds across resolutions\n"
+    "  --contrast C      multiply every grey level by C (0.05 to 1; after --scale, before --noise;\n"
+    "                    rounded): a dim exposure, every contrast C times, to measure low contrast\n"
     "  --noise SIGMA     add white Gaussian noise of standard deviation SIGMA grey levels (0 to 64) to\n"
     "                    every image (after --scale; rounded, saturated), drawn from a generator seeded\n"
     "                    by the image's stem, the same on every run: how detection holds on a noisy sensor\n"
@@ -76,7 +78,8 @@ struct EvalArgs {
   Options options;
   bool per_image = false;
   double scale = 1;
-  double noise = 0;  // --noise
+  double contrast = 1;  // --contrast
+  double noise = 0;     // --noise
   std::string json_path;
   std::string draw_dir;
   std::string scaled_dir;  // --write-scaled
@@ -138,6 +141,8 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
       if (a.draw_dir.empty()) throw UsageError("--draw needs a directory");
     } else if (name == "--scale") {
       a.scale = ParseDoubleValue(name, r.Value(), 0.1, 8);
+    } else if (name == "--contrast") {
+      a.contrast = ParseDoubleValue(name, r.Value(), 0.05, 1);
     } else if (name == "--noise") {
       a.noise = ParseDoubleValue(name, r.Value(), 0, 64);
     } else if (name == "--by") {
@@ -272,7 +277,8 @@ int RunEval(const std::vector<std::string>& argv) {
       st = Status(StatusCode::kInvalidArgument, item.image_path + ": " + error);
     } else if (st = eval::ReadEllipses(item.truth_path, &truth); st.ok()) {
       if (args.scale != 1) Rescale(args.scale, &image.gray, &truth);
-      eval::AddSensorNoise(args.noise, eval::StemSeed(item.stem), &image.gray);  // --noise
+      if (args.contrast != 1) image.gray.convertTo(image.gray, CV_8U, args.contrast);  // --contrast
+      eval::AddSensorNoise(args.noise, eval::StemSeed(item.stem), &image.gray);           // --noise
       const ImageView view = ViewOf(image.gray);
       if (!warmed_up) {
         st = detector.detect(view, &result);
