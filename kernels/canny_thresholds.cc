@@ -23,8 +23,10 @@ CannyThresholds ThresholdsFromHistogram(const std::uint32_t* hist, int high_perm
                                         int min_high, int contrast_ref) {
   std::int64_t count = 0;
   for (int m = 0; m <= kMaxMagnitude; ++m) count += hist[m];
+  const int quantile_high = Quantile(hist, count, high_permille);
   int floor_high = min_high;
-  if (contrast_ref > 0) {
+  // The floor only matters under min_high: a frame whose Q(high_permille) reaches it skips the rest.
+  if (contrast_ref > 0 && quantile_high < min_high) {
     const int contrast = Quantile(hist, count, kContrastPermille);
     if (contrast < contrast_ref) {
       const int noise = kNoiseFloorFactor * Quantile(hist, count, kNoisePermille);
@@ -32,7 +34,7 @@ CannyThresholds ThresholdsFromHistogram(const std::uint32_t* hist, int high_perm
     }
   }
   CannyThresholds t;
-  t.high = std::max(Quantile(hist, count, high_permille), floor_high);
+  t.high = std::max(quantile_high, floor_high);
   t.low = t.high * low_permille / 1000;
   return t;
 }

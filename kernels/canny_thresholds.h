@@ -21,7 +21,9 @@
 // its noise and fine texture, and for white noise (after the 3x3 blur) 3 x its median is about its
 // 99.9th percentile, so a frame with few outlines on a noisy ground (Q(995) in the noise) does
 // not get its noise for edges. Measured in docs/contrast.md.
-// Exact: integer only. The histogram is the kernel; the quantile walk is 2041 steps of scalar code.
+// Exact: integer only. The histogram is the kernel; each quantile walk (one, or three when Q(900)
+// is under min_high) is at most 2041 steps of scalar code. shaders/gaussian_sobel_thresholds.comp
+// repeats the three constants below on the device.
 #pragma once
 
 #include <cstddef>
