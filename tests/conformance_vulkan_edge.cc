@@ -122,20 +122,17 @@ TEST(ConformanceVulkanEdge, DimFramesLowerTheFloor) {
       auto img = Shapes(w, h, seed++);
       std::mt19937 rng(seed);
       for (auto& v : img) v = static_cast<std::uint8_t>(100 + v / 8 + rng() % noise);  // contrast / 8
-      std::vector<std::uint8_t> blurred(img.size());
-      std::vector<std::int16_t> dx(img.size()), dy(img.size());
-      std::vector<std::uint16_t> mag(img.size());
-      std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-      scalar::Gaussian(img.data(), w, w, h, blurred.data(), w);
-      scalar::Sobel(blurred.data(), w, w, h, dx.data(), dy.data(), mag.data(), w);
-      scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
+      const ImageView view{img.data(), w, h, w};
       const Options o;
-      const int high = ThresholdsFromHistogram(hist.data(), 900, 400, o.canny_min_high, o.canny_contrast_ref).high;
-      auto quantile = [&](int permille) { return ThresholdsFromHistogram(hist.data(), permille, 0, 0, 0).high; };
+      Edges e;
+      ScalarEdges(view, o, &e);
+      const int high = e.th.high;
+      // Q(permille) of the same histogram: the thresholds without a floor.
+      auto quantile = [&](int permille) { return ThresholdsFromHistogram(e.hist.data(), permille, 0, 0, 0).high; };
       ASSERT_GT(high, quantile(900)) << what << ": the floor must decide";
       ASSERT_LT(high, o.canny_min_high) << what << ": the floor must be lowered";
       if (noise > 2) ASSERT_EQ(high, kNoiseFloorFactor * quantile(kNoisePermille)) << what << ": the noise must set it";
-      ExpectSameBothBlurs(stage, ImageView{img.data(), w, h, w}, what);
+      ExpectSameBothBlurs(stage, view, what);
     }
   }
 }

@@ -35,6 +35,8 @@ inline ImageView ViewOf(const cv::Mat& gray) {
 struct Edges {
   std::vector<std::int16_t> dx, dy;
   std::vector<std::uint8_t> edge_map;
+  std::vector<std::uint32_t> hist;  // the magnitude histogram the thresholds were picked from
+  CannyThresholds th;
 };
 
 // The scalar edge stage exactly as runtime/detector.cc runs it (the Gaussian only with
@@ -44,8 +46,8 @@ inline void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
   const std::size_t n = static_cast<std::size_t>(w) * h;
   std::vector<std::uint8_t> blurred(n), nms(n);
   std::vector<std::uint16_t> mag(n);
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   std::vector<std::int32_t> stack(n);
+  out->hist.assign(kMaxMagnitude + 1, 0);
   out->dx.assign(n, 0);
   out->dy.assign(n, 0);
   out->edge_map.assign(n, 0);
@@ -57,10 +59,10 @@ inline void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
     src_stride = w;
   }
   scalar::Sobel(src, src_stride, w, h, out->dx.data(), out->dy.data(), mag.data(), w);
-  scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
-  const CannyThresholds th =
-      ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref);
-  scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
+  scalar::MagnitudeHistogram(mag.data(), w, h, w, out->hist.data());
+  out->th = ThresholdsFromHistogram(out->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                                    o.canny_contrast_ref);
+  scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, out->th.low, out->th.high, nms.data(), w);
   scalar::Hysteresis(nms.data(), w, h, w, stack.data());
   scalar::EdgeSign(nms.data(), w, out->dx.data(), out->dy.data(), w, w, h, out->edge_map.data(), w);
 }
