@@ -72,10 +72,12 @@ void PrepareFrom(const cv::Mat& frame, Prepared* p) {
   const ek::Options o;
   ek::scalar::Gaussian(p->frame.data, w, w, h, p->blurred.data(), w);
   ek::scalar::Sobel(p->blurred.data(), w, w, h, p->dx.data(), p->dy.data(), p->mag.data(), w);
-  ek::scalar::MagnitudeHistogram(p->mag.data(), w, h, w, p->hist.data());
-  p->th = ek::ThresholdsFromHistogram(p->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                                      o.canny_contrast_ref);
-  ek::scalar::Nms(p->dx.data(), p->dy.data(), p->mag.data(), w, h, w, p->th.low, p->th.high, p->nms.data(), w);
+  p->tiles.Resize(w, h, ek::CannyTileShift(o.canny_tile));
+  ek::scalar::MagnitudeHistogram(p->mag.data(), w, h, w, p->tiles.shift, p->hist.data(), p->tiles.tile_max.data());
+  ek::SelectThresholds(p->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                       o.canny_contrast_ref, &p->tiles);
+  p->th = p->tiles.frame;
+  ek::scalar::Nms(p->dx.data(), p->dy.data(), p->mag.data(), w, h, w, p->tiles.view(), p->nms.data(), w);
   p->hyst = p->nms;
   ek::scalar::Hysteresis(p->hyst.data(), w, h, w, p->stack.data());
   ek::scalar::EdgeSign(p->hyst.data(), w, p->dx.data(), p->dy.data(), w, w, h, p->edges.data(), w);

@@ -44,7 +44,8 @@ struct Prepared {
   std::vector<std::uint16_t> mag;
   std::vector<std::uint32_t> hist;
   std::vector<std::int32_t> stack;
-  CannyThresholds th;
+  CannyTiles tiles;   // the thresholds of every tile (nms reads them)
+  CannyThresholds th;  // the frame's pair (tiles.frame), for the OpenCV baselines
 };
 
 // Fills *p from `frame` with the scalar reference kernels and the default options.

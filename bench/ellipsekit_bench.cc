@@ -185,19 +185,19 @@ void RunKernel(benchmark::State& st, const std::string& kernel, std::int64_t tar
       benchmark::ClobberMemory();
     }
     bytes = 7 * n;
-  } else if (kernel == "canny_thresholds") {  // the histogram kernel + the quantile walk
-    ek::CannyThresholds th;
+  } else if (kernel == "canny_thresholds") {  // the histogram kernel + the quantile walks + the tiles' pairs
+    ek::CannyTiles tiles = p.tiles;
     const ek::Options o;
     for (auto _ : st) {
-      t.magnitude_histogram(p.mag.data(), w, h, w, hist.data());
-      th = ek::ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                                       o.canny_contrast_ref);
-      benchmark::DoNotOptimize(th);
+      t.magnitude_histogram(p.mag.data(), w, h, w, tiles.shift, hist.data(), tiles.tile_max.data());
+      ek::SelectThresholds(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                           o.canny_contrast_ref, &tiles);
+      benchmark::DoNotOptimize(tiles.high.data());
     }
     bytes = 2 * n;
   } else if (kernel == "nms") {
     for (auto _ : st) {
-      t.nms(p.dx.data(), p.dy.data(), p.mag.data(), w, h, w, p.th.low, p.th.high, out_u8.data(), w);
+      t.nms(p.dx.data(), p.dy.data(), p.mag.data(), w, h, w, p.tiles.view(), out_u8.data(), w);
       benchmark::DoNotOptimize(out_u8.data());
       benchmark::ClobberMemory();
     }
@@ -340,10 +340,10 @@ void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   const ek::Options o;
   k.gaussian(frame.data, static_cast<std::ptrdiff_t>(frame.step[0]), w, h, b->blurred.data(), w);
   k.sobel(b->blurred.data(), w, w, h, b->dx.data(), b->dy.data(), b->mag.data(), w);
-  k.magnitude_histogram(b->mag.data(), w, h, w, b->hist.data());
-  const ek::CannyThresholds th = ek::ThresholdsFromHistogram(b->hist.data(), o.canny_high_permille, o.canny_low_permille,
-                                                             o.canny_min_high, o.canny_contrast_ref);
-  k.nms(b->dx.data(), b->dy.data(), b->mag.data(), w, h, w, th.low, th.high, b->nms.data(), w);
+  k.magnitude_histogram(b->mag.data(), w, h, w, b->tiles.shift, b->hist.data(), b->tiles.tile_max.data());
+  ek::SelectThresholds(b->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                       o.canny_contrast_ref, &b->tiles);
+  k.nms(b->dx.data(), b->dy.data(), b->mag.data(), w, h, w, b->tiles.view(), b->nms.data(), w);
   k.hysteresis(b->nms.data(), w, h, w, b->stack.data());
   k.edge_sign(b->nms.data(), w, b->dx.data(), b->dy.data(), w, w, h, b->edges.data(), w);
 }

@@ -8,13 +8,15 @@
 //   horizontal: m >  mag(x-1, y)   and m >= mag(x+1, y)
 //   vertical:   m >  mag(x, y-1)   and m >= mag(x, y+1)
 //   diagonal:   m >  mag(x-s, y-1) and m >  mag(x+s, y+1),  s = +1 when dx, dy share a sign.
-// The row tail shorter than a vector uses the reference code per pixel.
+// Each tile's columns (kernels/nms.h NmsThresholds) go as one run with that tile's thresholds;
+// a run's tail shorter than a vector uses the reference code per pixel.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cpu/nms.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -55,7 +57,7 @@ HWY_INLINE hn::Vec<D32> LoadMag(D32 d32, D16 du16, const std::uint16_t* p) {
 }
 
 void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
-             int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+             int height, std::ptrdiff_t stride, const NmsThresholds& th, std::uint8_t* out,
              std::ptrdiff_t out_stride) {
   const hn::ScalableTag<std::int32_t> d32;
   const hn::Rebind<std::int16_t, decltype(d32)> di16;
@@ -64,8 +66,6 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
   const int n = static_cast<int>(hn::Lanes(d32));
   const auto tan22 = hn::Set(d32, kTan22Q15);
   const auto tan67 = hn::Set(d32, kTan67Q15);
-  const auto low_v = hn::Set(d32, low);
-  const auto high_v = hn::Set(d32, high);
   const auto zero = hn::Zero(d32);
   const auto weak = hn::Set(d32, kNmsWeak);
   const auto strong = hn::Set(d32, kNmsStrong);
@@ -82,44 +82,51 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
     const std::int16_t* gy = dy + y * stride;
     o[0] = kNmsNone;
     o[width - 1] = kNmsNone;
-    int x = 1;
-    // The loads reach x + n, which must stay <= width - 1.
-    for (; x + n <= width - 1; x += n) {
-      const auto m = LoadMag(d32, du16, mc + x);
-      const auto above_low = hn::Gt(m, low_v);
-      if (hn::AllFalse(d32, above_low)) {  // most of a frame: no candidate in these lanes
-        hn::StoreU(hn::Zero(du8), du8, o + x);
-        continue;
+    const std::int32_t* low_row = th.low + (y >> th.shift) * th.tiles_x;
+    const std::int32_t* high_row = th.high + (y >> th.shift) * th.tiles_x;
+    for (int tile = 0, x = 1; x < width - 1; ++tile) {
+      const int low = low_row[tile], high = high_row[tile];
+      const auto low_v = hn::Set(d32, low);
+      const auto high_v = hn::Set(d32, high);
+      // This tile's columns up to end; the loads reach x + n, which stays <= end <= width - 1.
+      const int end = static_cast<int>(std::min<std::int64_t>(width - 1, (std::int64_t{tile} + 1) << th.shift));
+      for (; x + n <= end; x += n) {
+        const auto m = LoadMag(d32, du16, mc + x);
+        const auto above_low = hn::Gt(m, low_v);
+        if (hn::AllFalse(d32, above_low)) {  // most of a frame: no candidate in these lanes
+          hn::StoreU(hn::Zero(du8), du8, o + x);
+          continue;
+        }
+        const auto gxv = hn::PromoteTo(d32, hn::LoadU(di16, gx + x));
+        const auto gyv = hn::PromoteTo(d32, hn::LoadU(di16, gy + x));
+        const auto ax = hn::Abs(gxv);
+        const auto ay15 = hn::ShiftLeft<15>(hn::Abs(gyv));
+        const auto horizontal = hn::Lt(ay15, hn::Mul(tan22, ax));
+        const auto vertical = hn::AndNot(horizontal, hn::Gt(ay15, hn::Mul(tan67, ax)));
+        const auto diagonal = hn::Not(hn::Or(horizontal, vertical));
+        // s = -1 (opposite signs): neighbours (x+1, y-1), (x-1, y+1); s = +1: (x-1, y-1), (x+1, y+1).
+        const auto opposite = hn::Lt(hn::Xor(gxv, gyv), zero);
+
+        const auto c_left = LoadMag(d32, du16, mc + x - 1), c_right = LoadMag(d32, du16, mc + x + 1);
+        const auto p_left = LoadMag(d32, du16, mp + x - 1), p_mid = LoadMag(d32, du16, mp + x),
+                   p_right = LoadMag(d32, du16, mp + x + 1);
+        const auto n_left = LoadMag(d32, du16, mn + x - 1), n_mid = LoadMag(d32, du16, mn + x),
+                   n_right = LoadMag(d32, du16, mn + x + 1);
+
+        const auto diag_first = hn::IfThenElse(opposite, p_right, p_left);
+        const auto diag_second = hn::IfThenElse(opposite, n_left, n_right);
+        const auto first = hn::IfThenElse(horizontal, c_left, hn::IfThenElse(vertical, p_mid, diag_first));
+        const auto second =
+            hn::IfThenElse(horizontal, c_right, hn::IfThenElse(vertical, n_mid, diag_second));
+        // Diagonal needs m > second; the other two directions m >= second.
+        // (Highway 1.0 has no integer >= on x86, hence > or ==.)
+        const auto second_ok = hn::Or(hn::Gt(m, second), hn::AndNot(diagonal, hn::Eq(m, second)));
+        const auto is_edge = hn::And(hn::And(above_low, hn::Gt(m, first)), second_ok);
+        const auto cls = hn::IfThenElseZero(is_edge, hn::IfThenElse(hn::Gt(m, high_v), strong, weak));
+        hn::StoreU(hn::DemoteTo(du8, cls), du8, o + x);
       }
-      const auto gxv = hn::PromoteTo(d32, hn::LoadU(di16, gx + x));
-      const auto gyv = hn::PromoteTo(d32, hn::LoadU(di16, gy + x));
-      const auto ax = hn::Abs(gxv);
-      const auto ay15 = hn::ShiftLeft<15>(hn::Abs(gyv));
-      const auto horizontal = hn::Lt(ay15, hn::Mul(tan22, ax));
-      const auto vertical = hn::AndNot(horizontal, hn::Gt(ay15, hn::Mul(tan67, ax)));
-      const auto diagonal = hn::Not(hn::Or(horizontal, vertical));
-      // s = -1 (opposite signs): neighbours (x+1, y-1), (x-1, y+1); s = +1: (x-1, y-1), (x+1, y+1).
-      const auto opposite = hn::Lt(hn::Xor(gxv, gyv), zero);
-
-      const auto c_left = LoadMag(d32, du16, mc + x - 1), c_right = LoadMag(d32, du16, mc + x + 1);
-      const auto p_left = LoadMag(d32, du16, mp + x - 1), p_mid = LoadMag(d32, du16, mp + x),
-                 p_right = LoadMag(d32, du16, mp + x + 1);
-      const auto n_left = LoadMag(d32, du16, mn + x - 1), n_mid = LoadMag(d32, du16, mn + x),
-                 n_right = LoadMag(d32, du16, mn + x + 1);
-
-      const auto diag_first = hn::IfThenElse(opposite, p_right, p_left);
-      const auto diag_second = hn::IfThenElse(opposite, n_left, n_right);
-      const auto first = hn::IfThenElse(horizontal, c_left, hn::IfThenElse(vertical, p_mid, diag_first));
-      const auto second =
-          hn::IfThenElse(horizontal, c_right, hn::IfThenElse(vertical, n_mid, diag_second));
-      // Diagonal needs m > second; the other two directions m >= second.
-      // (Highway 1.0 has no integer >= on x86, hence > or ==.)
-      const auto second_ok = hn::Or(hn::Gt(m, second), hn::AndNot(diagonal, hn::Eq(m, second)));
-      const auto is_edge = hn::And(hn::And(above_low, hn::Gt(m, first)), second_ok);
-      const auto cls = hn::IfThenElseZero(is_edge, hn::IfThenElse(hn::Gt(m, high_v), strong, weak));
-      hn::StoreU(hn::DemoteTo(du8, cls), du8, o + x);
+      for (; x < end; ++x) o[x] = NmsPixel(mp, mc, mn, gx, gy, x, low, high);
     }
-    for (; x < width - 1; ++x) o[x] = NmsPixel(mp, mc, mn, gx, gy, x, low, high);
   }
 }
 

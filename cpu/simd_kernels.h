@@ -38,9 +38,9 @@ const std::vector<TargetKernels>& Targets();
 // target. nullptr, with *why naming the available targets, when the name matches none.
 const TargetKernels* FindTarget(const std::string& name, std::string* why);
 
-// The gradient-magnitude histogram: plain C++ (a histogram does not vectorise), one copy shared
-// by every target (cpu/canny_thresholds.cc).
+// The gradient-magnitude histogram and the tiles' maxima: plain C++ (a histogram does not
+// vectorise), one copy shared by every target (cpu/canny_thresholds.cc).
 void MagnitudeHistogram(const std::uint16_t* mag, int width, int height, std::ptrdiff_t stride,
-                        std::uint32_t* hist);
+                        int tile_shift, std::uint32_t* hist, std::uint16_t* tile_max);
 
 }  // namespace ellipsekit::simd

@@ -30,7 +30,7 @@ void GaussianImpl(const std::uint8_t* src, std::ptrdiff_t src_stride, int width,
 void SobelImpl(const std::uint8_t* src, std::ptrdiff_t src_stride, int width, int height,
                std::int16_t* dx, std::int16_t* dy, std::uint16_t* mag, std::ptrdiff_t stride);
 void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
-             int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+             int height, std::ptrdiff_t stride, const NmsThresholds& th, std::uint8_t* out,
              std::ptrdiff_t out_stride);
 void HysteresisImpl(std::uint8_t* map, int width, int height, std::ptrdiff_t stride,
                     std::int32_t* stack);

@@ -23,7 +23,10 @@ void EditOption(int field, int v, Options* o) {
   switch (field % 30) {
     case 0: o->gaussian_blur = (v & 1) != 0; break;
     case 1: o->canny_high_permille = v; break;
-    case 2: o->canny_low_permille = v; break;
+    case 2:  // the low ratio, and on odd values the tile (0, 32 .. 256; kernels/canny_thresholds.h)
+      o->canny_low_permille = v;
+      if (v & 1) o->canny_tile = (v & 2) ? 0 : 32 << ((v >> 2) & 3);
+      break;
     case 3:  // the floor, and on odd values the contrast it follows (kernels/canny_thresholds.h)
       o->canny_min_high = v;
       if (v & 1) o->canny_contrast_ref = v / 2;

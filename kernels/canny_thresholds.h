@@ -21,13 +21,30 @@
 // its noise and fine texture, and for white noise (after the 3x3 blur) 3 x its median is about its
 // 99.9th percentile, so a frame with few outlines on a noisy ground (Q(995) in the noise) does
 // not get its noise for edges. Measured in docs/contrast.md.
-// Exact: integer only. The histogram is the kernel; each quantile walk (one, or three when Q(900)
-// is under min_high) is at most 2041 steps of scalar code. shaders/gaussian_sobel_thresholds.comp
-// repeats the three constants below on the device.
+// Local contrast (our addition): a dim region of a bright frame (a top in a shadow, a frame lit
+// from one side) has outlines under the frame's thresholds. The frame is cut into square tiles of
+// 2^shift px (Options::canny_tile); tile t's maximum magnitude on the histogram rows, M[t], lowers
+// its thresholds where it is under the frame's contrast Q(995), in proportion, with the frame's
+// bounds:
+//   high_t   = min(high, max(high * M[t] / Q(995), high / 4, 3 * Q(500)))  when high <= M[t] < Q(995)
+//            = high                                                    otherwise
+//   low_t    = high_t * low_permille / 1000
+// A tile whose maximum is under the frame's high threshold keeps the frame's pair: it holds no
+// strong pixel, no start for an edge, under the frame's pair, and lowering it would start edges in
+// its noise and texture (measured: 17-39 % more edge pixels for no detection, docs/contrast.md).
+// A tile's thresholds are never above the frame's; one tile covering the frame has M >= Q(995),
+// so it gets the frame's pair (the classic rule). Nms (kernels/nms.h) reads the pixel's tile's pair.
+// Measured in docs/contrast.md.
+// Exact: integer only. The histogram and the tiles' maxima are the kernel; each quantile walk is at
+// most 2041 steps of scalar code, and a tile's pair a few integer operations.
+// shaders/gaussian_sobel_thresholds.comp repeats the three constants below on the device.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
+
+#include "kernels/nms.h"
 
 namespace ellipsekit {
 
@@ -43,17 +60,45 @@ constexpr int HistogramRows(int height) { return (height + kHistogramRowStep - 1
 struct CannyThresholds {
   int low = 0;
   int high = 0;
+  int contrast = 0;  // Q(995)
+  int noise = 0;     // kNoiseFloorFactor * Q(500)
 };
 
-// Picks the thresholds from a histogram of kMaxMagnitude + 1 bins (N = the sum of its bins);
-// contrast_ref 0: the fixed floor min_high.
+// Picks the frame's thresholds from a histogram of kMaxMagnitude + 1 bins (N = the sum of its
+// bins); contrast_ref 0: the fixed floor min_high.
 CannyThresholds ThresholdsFromHistogram(const std::uint32_t* hist, int high_permille, int low_permille,
                                         int min_high, int contrast_ref);
 
+// The tile shift of Options::canny_tile (0: one tile, else a power of two >= 32).
+int CannyTileShift(int canny_tile);
+
+// Tiles of 2^shift px over a width x height frame, along x and in all.
+inline int TilesAlong(int length, int shift) { return (length + (1 << shift) - 1) >> shift; }
+
+// A frame's thresholds tile by tile: the scratch the histogram kernel fills (tile_max) and Nms
+// reads (view()). Resize allocates only when the tile count grows (first frame of a size).
+struct CannyTiles {
+  int shift = kNmsOneTileShift;
+  int tiles_x = 1;
+  CannyThresholds frame;
+  std::vector<std::uint16_t> tile_max;
+  std::vector<std::int32_t> low, high;
+  void Resize(int width, int height, int tile_shift);
+  NmsThresholds view() const { return {shift, tiles_x, low.data(), high.data()}; }
+};
+
+// The frame's pair (ThresholdsFromHistogram) and every tile's (the rule above), from the
+// histogram and tiles->tile_max as the magnitude_histogram kernel left them.
+void SelectThresholds(const std::uint32_t* hist, int high_permille, int low_permille, int min_high,
+                      int contrast_ref, CannyTiles* tiles);
+
 namespace scalar {
-// hist: kMaxMagnitude + 1 bins, overwritten with the counts of rows 0, kHistogramRowStep, ...
+// hist: kMaxMagnitude + 1 bins, overwritten with the counts of rows 0, kHistogramRowStep, ...;
+// tile_max: TilesAlong(width, tile_shift) * TilesAlong(height, tile_shift) entries, overwritten with
+// each tile's largest magnitude on those rows (every tile holds one: its first row is a multiple of
+// 32).
 void MagnitudeHistogram(const std::uint16_t* mag, int width, int height, std::ptrdiff_t stride,
-                        std::uint32_t* hist);
+                        int tile_shift, std::uint32_t* hist, std::uint16_t* tile_max);
 }  // namespace scalar
 
 }  // namespace ellipsekit

@@ -11,6 +11,7 @@
 #include "ellipsekit/types.h"
 #include "kernels/arc_split.h"
 #include "kernels/arc_types.h"
+#include "kernels/nms.h"
 #include "kernels/polyline.h"
 
 namespace ellipsekit {
@@ -21,9 +22,10 @@ struct KernelTable {
   void (*gaussian)(const std::uint8_t*, std::ptrdiff_t, int, int, std::uint8_t*, std::ptrdiff_t) = nullptr;
   void (*sobel)(const std::uint8_t*, std::ptrdiff_t, int, int, std::int16_t*, std::int16_t*,
                 std::uint16_t*, std::ptrdiff_t) = nullptr;
-  void (*magnitude_histogram)(const std::uint16_t*, int, int, std::ptrdiff_t, std::uint32_t*) = nullptr;
+  void (*magnitude_histogram)(const std::uint16_t*, int, int, std::ptrdiff_t, int, std::uint32_t*,
+                              std::uint16_t*) = nullptr;
   void (*nms)(const std::int16_t*, const std::int16_t*, const std::uint16_t*, int, int,
-              std::ptrdiff_t, int, int, std::uint8_t*, std::ptrdiff_t) = nullptr;
+              std::ptrdiff_t, const NmsThresholds&, std::uint8_t*, std::ptrdiff_t) = nullptr;
   void (*hysteresis)(std::uint8_t*, int, int, std::ptrdiff_t, std::int32_t*) = nullptr;
   void (*edge_sign)(const std::uint8_t*, std::ptrdiff_t, const std::int16_t*, const std::int16_t*,
                     std::ptrdiff_t, int, int, std::uint8_t*, std::ptrdiff_t) = nullptr;

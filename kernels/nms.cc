@@ -6,7 +6,7 @@
 namespace ellipsekit::scalar {
 
 void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
-         int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+         int height, std::ptrdiff_t stride, const NmsThresholds& th, std::uint8_t* out,
          std::ptrdiff_t out_stride) {
   for (int y = 0; y < height; ++y) {
     std::uint8_t* o = out + y * out_stride;
@@ -17,8 +17,11 @@ void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* ma
     const std::uint16_t* mn = mag + (y + 1) * stride;
     const std::int16_t* gx = dx + y * stride;
     const std::int16_t* gy = dy + y * stride;
+    const std::int32_t* low_row = th.low + (y >> th.shift) * th.tiles_x;
+    const std::int32_t* high_row = th.high + (y >> th.shift) * th.tiles_x;
     for (int x = 1; x < width - 1; ++x) {
       const int m = mc[x];
+      const int low = low_row[x >> th.shift], high = high_row[x >> th.shift];
       if (m <= low) continue;
       const std::int32_t ax = std::abs(gx[x]), ay = std::abs(gy[x]);
       const std::int32_t ay15 = ay << 15;

@@ -6,7 +6,8 @@
 //   (ay << 15) >  kTan67 * ax  -> gradient ~vertical:   neighbours (x, y-1), (x, y+1)
 //   otherwise diagonal: s = (dx, dy same sign) ? +1 : -1, neighbours (x-s, y-1), (x+s, y+1)
 // A pixel is a local maximum when mag > the first neighbour and mag >= the second
-// (diagonal: > both). Out: 0 = no edge, 1 = weak (local max, mag > low), 2 = strong (mag > high).
+// (diagonal: > both). Out: 0 = no edge, 1 = weak (local max, mag > low), 2 = strong (mag > high),
+// low and high those of the pixel's tile (NmsThresholds; one tile: the classic one pair per frame).
 // Border: the outermost rows and columns are always 0.
 // Exact: integer only.
 #pragma once
@@ -21,10 +22,31 @@ inline constexpr std::int32_t kTan67Q15 = 79109;
 
 enum NmsClass : std::uint8_t { kNmsNone = 0, kNmsWeak = 1, kNmsStrong = 2 };
 
+// Smallest tile: 32 px, so a SIMD vector run and a shader's 32-pixel mask word each lie in one tile.
+inline constexpr int kNmsMinTileShift = 5;
+// One tile covers any frame detect() accepts (16384 px a side).
+inline constexpr int kNmsOneTileShift = 14;
+
+// The thresholds per square tile of 2^shift px (shift in [kNmsMinTileShift, kNmsOneTileShift]):
+// pixel (x, y) reads low[t] and high[t], t = (y >> shift) * tiles_x + (x >> shift).
+struct NmsThresholds {
+  int shift = kNmsOneTileShift;
+  int tiles_x = 1;
+  const std::int32_t* low = nullptr;
+  const std::int32_t* high = nullptr;
+};
+
+// One pair for the whole frame (classic Canny); view() lives as long as the pair.
+struct NmsOnePair {
+  std::int32_t low = 0;
+  std::int32_t high = 0;
+  NmsThresholds view() const { return {kNmsOneTileShift, 1, &low, &high}; }
+};
+
 namespace scalar {
 // dx, dy, mag rows are `stride` elements apart; out rows are out_stride bytes apart.
 void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
-         int height, std::ptrdiff_t stride, int low, int high, std::uint8_t* out,
+         int height, std::ptrdiff_t stride, const NmsThresholds& th, std::uint8_t* out,
          std::ptrdiff_t out_stride);
 }  // namespace scalar
 

@@ -64,6 +64,8 @@ Status ValidateOptions(const Options& o) {
   if (o.canny_min_high < 0 || o.canny_min_high > kMaxMagnitude) return Invalid("canny_min_high must be in [0, 2040]");
   if (o.canny_contrast_ref < 0 || o.canny_contrast_ref > kMaxMagnitude)
     return Invalid("canny_contrast_ref must be in [0, 2040] (0: a fixed floor)");
+  if (o.canny_tile != 0 && (o.canny_tile < 32 || o.canny_tile > 16384 || (o.canny_tile & (o.canny_tile - 1)) != 0))
+    return Invalid("canny_tile must be 0 (one pair of thresholds per frame) or a power of two from 32 to 16384");
   if (!Finite(o.denoise_min_sigma)) return Invalid("denoise_min_sigma must be a finite number (<= 0: never smooth more)");
   if (o.min_curve_points < 3) return Invalid("min_curve_points (T_n) must be >= 3");
   if (!Finite(o.obb_threshold) || o.obb_threshold < 0) return Invalid("obb_threshold (T_O) must be a finite number >= 0");
@@ -193,6 +195,7 @@ void Detector::Impl::Resize(int w, int h) {
   blurred.resize(n); nms.resize(n); edge_map.resize(n);
   dx.resize(n); dy.resize(n); mag.resize(n);
   hist.resize(kMaxMagnitude + 1);
+  tiles.Resize(w, h, CannyTileShift(options.canny_tile));
   stack.resize(n);  // hysteresis: every pixel at most once
   claims.Resize(w, h);
   refit_scratch.Reserve(w, h);
@@ -273,10 +276,10 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
       src_stride = w;
     }
     k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
-    k.magnitude_histogram(mag.data(), w, h, w, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), options.canny_high_permille, options.canny_low_permille,
-                                                       options.canny_min_high, options.canny_contrast_ref);
-    k.nms(dx.data(), dy.data(), mag.data(), w, h, w, th.low, th.high, nms.data(), w);
+    k.magnitude_histogram(mag.data(), w, h, w, tiles.shift, hist.data(), tiles.tile_max.data());
+    SelectThresholds(hist.data(), options.canny_high_permille, options.canny_low_permille, options.canny_min_high,
+                     options.canny_contrast_ref, &tiles);
+    k.nms(dx.data(), dy.data(), mag.data(), w, h, w, tiles.view(), nms.data(), w);
     k.hysteresis(nms.data(), w, h, w, stack.data());
     k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edge_map.data(), w);
   }

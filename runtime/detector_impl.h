@@ -21,6 +21,7 @@
 #include "fit/edge_map_view.h"
 #include "fit/edge_refit.h"
 #include "fit/grouping.h"
+#include "kernels/canny_thresholds.h"
 #include "kernels/kernel_table.h"
 #ifdef ELLIPSEKIT_HAVE_VULKAN
 #include "runtime/vulkan_arc_stage.h"
@@ -79,6 +80,7 @@ struct Detector::Impl {
   std::vector<std::int16_t> dx, dy;
   std::vector<std::uint16_t> mag;
   std::vector<std::uint32_t> hist;
+  CannyTiles tiles;
   std::vector<std::int32_t> stack;
   Curves curves;
   TraceScratch trace;

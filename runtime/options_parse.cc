@@ -73,6 +73,7 @@ Status SetOption(const std::string& assignment, Options* o) {
   static const IntField ints[] = {
       {"canny_high_permille", &Options::canny_high_permille}, {"canny_low_permille", &Options::canny_low_permille},
       {"canny_min_high", &Options::canny_min_high}, {"canny_contrast_ref", &Options::canny_contrast_ref},
+      {"canny_tile", &Options::canny_tile},
       {"min_curve_points", &Options::min_curve_points},
       {"max_arcs", &Options::max_arcs}, {"max_pairs", &Options::max_pairs},
       {"max_triplets", &Options::max_triplets}, {"max_candidates", &Options::max_candidates},

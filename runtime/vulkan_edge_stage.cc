@@ -81,8 +81,10 @@ Status VulkanEdgeStage::Resize(int width, int height) {
   // 16-bit planes (dx, dy): rows of whole mask words (32 pixels = 4 uvec4), so nms.comp reads
   // a word's four uvec4 without bounds tests. The edge map: rows of whole mask words too.
   const VkDeviceSize packed16 = 64ull * mask_words_ * height, packed8 = 32ull * mask_words_ * height;
-  const VkDeviceSize sizes[kNumBindings] = {frame, packed16, packed16, 4 * (kMaxMagnitude + 2), 16,
-                                            8ull * mask_words_ * height, packed8};
+  const VkDeviceSize most_tiles = static_cast<VkDeviceSize>(TilesAlong(width, kNmsMinTileShift)) *
+                                 TilesAlong(height, kNmsMinTileShift);
+  const VkDeviceSize sizes[kNumBindings] = {frame, packed16, packed16, 4 * (kMaxMagnitude + 2 + most_tiles),
+                                            8 * most_tiles, 8ull * mask_words_ * height, packed8};
   const VkDeviceSize largest = std::max(frame, packed16);
   if (largest > ctx_->properties().limits.maxStorageBufferRange)
     return {StatusCode::kUnavailable, "frame of " + std::to_string(width) + "x" + std::to_string(height) +
@@ -167,11 +169,13 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   const std::uint32_t plane_row_vec4 = 4 * mask_words_;
   const std::uint32_t frame_push[kPushWords] = {uw,      uh,           rec.need,         padded_row_vec4_,
                                                 chunks_, plane_row_vec4, rec.low_permille, rec.min_high,
-                                                rec.contrast_need, rec.contrast_ref, rec.noise_need};
+                                                rec.contrast_need, rec.contrast_ref, rec.noise_need,
+                                                rec.tile_shift, rec.tiles_x, rec.tiles};
   Dispatch1D(cb, rec.blur ? kGaussianSobelThresholds : kSobelThresholds, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepGaussianSobelThresholds);
-  const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, 0, 0, 0, 0, 0};
+  const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, rec.tile_shift,
+                                               rec.tiles_x, 0, 0, 0, 0, 0, 0};
   Dispatch1D(cb, kNmsEdgeSign, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepNmsEdgeSign);
@@ -221,6 +225,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   auto need_for = [counted](int permille) {
     return static_cast<std::uint32_t>((static_cast<std::uint64_t>(std::max(permille, 0)) * counted + 999) / 1000);
   };
+  const int shift = CannyTileShift(options.canny_tile);
   const Recording want{w,
                        h,
                        options.gaussian_blur,
@@ -231,7 +236,10 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
                        static_cast<std::uint32_t>(options.canny_min_high),
                        need_for(kContrastPermille),
                        static_cast<std::uint32_t>(options.canny_contrast_ref),
-                       need_for(kNoisePermille)};
+                       need_for(kNoisePermille),
+                       static_cast<std::uint32_t>(shift),
+                       static_cast<std::uint32_t>(TilesAlong(w, shift)),
+                       static_cast<std::uint32_t>(TilesAlong(w, shift) * TilesAlong(h, shift))};
   if (!(recorded_ == want)) {
     st = Record(want);
     if (!st.ok()) return st;

@@ -95,6 +95,7 @@ class VulkanEdgeStage {
     int block_passes = 0;  // hysteresis_blocks.comp dispatches
     // The thresholds' push constants (shaders/gaussian_sobel_thresholds.comp).
     std::uint32_t need = 0, low_permille = 0, min_high = 0, contrast_need = 0, contrast_ref = 0, noise_need = 0;
+    std::uint32_t tile_shift = 0, tiles_x = 0, tiles = 0;  // kernels/canny_thresholds.h CannyTiles
     bool operator==(const Recording&) const = default;
   };
 
@@ -113,7 +114,8 @@ class VulkanEdgeStage {
   VulkanProgram program_;
 
   // Bindings 0..6: image (packed u8, padded), dx (packed i16), dy, hist (bins + finished-group
-  // count), thresholds, masks, edges (packed u8). Host-visible, used in place (no staging):
+  // count + tiles' maxima), thresholds (a pair per tile), masks, edges (packed u8); hist and
+  // thresholds sized for the smallest tiles (kNmsMinTileShift). Host-visible, used in place (no staging):
   // image, dx, dy, edges.
   VulkanBuffer buffers_[kNumBindings];
   int width_ = 0, height_ = 0;
@@ -123,7 +125,7 @@ class VulkanEdgeStage {
   std::uint32_t chunks_ = 0;           // 16-pixel chunks per row: ceil(width / 16)
   std::uint32_t padded_row_vec4_ = 0;  // uvec4 per row of the padded frame: chunks_ + 2
   std::uint32_t mask_words_ = 0;       // 32-pixel hysteresis mask words per row: ceil(width / 32)
-  static constexpr std::uint32_t kPushWords = 11;
+  static constexpr std::uint32_t kPushWords = 14;
   double last_device_ms_ = -1;
   double last_step_ms_[kNumSteps] = {-1, -1, -1, -1};
 };

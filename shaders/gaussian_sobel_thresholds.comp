@@ -13,6 +13,10 @@
 //   floor = min_high when contrast_ref == 0 or Q(995) >= contrast_ref,
 //           else min(min_high, max(min_high * Q(995) / contrast_ref, min_high / 4, 3 * Q(500)));
 //   high = max(floor, Q(high_permille)), low = high * low_permille / 1000,
+//   M[t] = max mag of tile t (2^pc.j px square, pc.k per row, pc.l in all) on the histogram rows,
+//   high_t = min(high, max(high * M[t] / Q(995), high / 4, 3 * Q(500))) when high <= M[t] < Q(995),
+//            high otherwise,
+//   low_t = high_t * low_permille / 1000,
 // with the 64-bit products moved to the host: pc.a = ceil(high_permille * N / 1000), pc.g =
 // ceil(995 * N / 1000), pc.i = ceil(500 * N / 1000), and 1000 * below >= p * N  <=>
 // below >= ceil(p * N / 1000) for integer below.
@@ -29,11 +33,13 @@
 // Out: bindings 1 / 2: dx / dy (int16), packed two per uint (pixel 2k in the low half), rows of
 // pc.d uvec4 = 8 * pc.d elements (a whole number of 32-pixel hysteresis mask words, >= the pc.c
 // chunks written here; elements past the row end are don't-care). dx and dy are what the host
-// downloads. Binding 4: params[0] = low, params[1] = high, for nms_edge_sign.comp.
-// Binding 3: the histogram, kBins counts and then the count of finished workgroups; zero before
-// the dispatch (vkCmdFillBuffer). Each workgroup counts into a shared histogram and adds its
-// non-zero bins with atomics (exact whatever the order), then counts itself; the workgroup whose
-// count completes the total has seen every other group's bins and selects.
+// downloads. Binding 4: params[2 t] = low_t, params[2 t + 1] = high_t, for nms_edge_sign.comp.
+// Binding 3: the histogram, kBins counts, then the count of finished workgroups, then the pc.l
+// tiles' maxima; zero before the dispatch (vkCmdFillBuffer). Each workgroup counts into a shared
+// histogram and adds its non-zero bins with atomics (exact whatever the order), each invocation
+// takes its tile's maximum with one atomicMax (its chunk's 16 x kRows pixels lie in one tile: tiles
+// are >= 32 px), then the group counts itself; the workgroup whose count completes the total has
+// seen every other group's bins and maxima and selects, its invocations sharing the tiles.
 // One invocation: one 16-pixel chunk of kRows rows; the input rows it needs (three per output
 // row) are carried in registers, each loaded once (one uvec4 and two single words per row): wide
 // accesses matter on lavapipe, where each buffer access is a loop over the SIMD lanes.
@@ -47,9 +53,11 @@ layout(std430, set = 0, binding = 2) writeonly buffer Dy { uvec4 dy[]; };
 // their count.
 layout(std430, set = 0, binding = 3) coherent buffer Hist { uint hist[]; };
 layout(std430, set = 0, binding = 4) writeonly buffer Thresholds { uint params[]; };
-// e = low_permille, f = min_high, g = Q(995)'s count, h = contrast_ref, i = Q(500)'s count.
+// e = low_permille, f = min_high, g = Q(995)'s count, h = contrast_ref, i = Q(500)'s count,
+// j = tile shift, k = tiles per row, l = tiles.
 layout(push_constant) uniform Params {
-  uint width; uint height; uint a; uint b; uint c; uint d; uint e; uint f; uint g; uint h; uint i;
+  uint width; uint height; uint a; uint b; uint c; uint d; uint e; uint f; uint g; uint h; uint i; uint j; uint k;
+  uint l;
 } pc;
 
 layout(constant_id = 0) const uint BLUR = 1u;
@@ -62,6 +70,9 @@ const uint kRowStep = 4u;            // kHistogramRowStep (kernels/canny_thresho
 shared uint local_hist[kBins];
 shared uint partial[kGroupSize];
 shared bool last_group;
+shared uint frame_high, frame_contrast, frame_noise;
+
+uint chunk_max = 0u;  // this invocation's largest magnitude on the histogram rows
 
 // 16 pixels of a row chunk (p0 = pixels 0..3, ...) and the pixels just left (l) and right (r) of
 // it; l2 / r2: the pixels two to the left / right (read only where BLUR needs them).
@@ -129,13 +140,16 @@ uvec4 Pack16(ivec4 a, ivec4 b) {
   return lo | (hi << 16u);
 }
 
-// Counts the magnitudes of 4 pixels (k0..k0+3 of the chunk) that lie inside the row.
+// Counts the magnitudes of 4 pixels (k0..k0+3 of the chunk) that lie inside the row, and keeps
+// their maximum.
 void Count(ivec4 gx, ivec4 gy, int k0, int inside) {
   uvec4 m = uvec4(abs(gx) + abs(gy));
   if (k0 < inside) atomicAdd(local_hist[m.x], 1u);
   if (k0 + 1 < inside) atomicAdd(local_hist[m.y], 1u);
   if (k0 + 2 < inside) atomicAdd(local_hist[m.z], 1u);
   if (k0 + 3 < inside) atomicAdd(local_hist[m.w], 1u);
+  uvec4 kept = mix(uvec4(0u), m, lessThan(ivec4(k0) + ivec4(0, 1, 2, 3), ivec4(inside)));
+  chunk_max = max(chunk_max, max(max(kept.x, kept.y), max(kept.z, kept.w)));
 }
 
 // dx, dy of output row y from the Sobel input rows a (y - 1), b (y), c (y + 1); row y's
@@ -183,7 +197,8 @@ uint Quantile(uint need) {
   return kBins - 1u;
 }
 
-// The thresholds from the complete histogram (the last workgroup; every invocation calls it).
+// The thresholds from the complete histogram and tiles' maxima (the last workgroup; every
+// invocation calls it): the frame's pair by invocation 0, then the tiles' pairs by all.
 void Select() {
   uint lid = gl_LocalInvocationID.x;
   uint sum = 0u;
@@ -193,15 +208,24 @@ void Select() {
   }
   partial[lid] = sum;
   barrier();
-  if (lid != 0u) return;
-  uint floor_high = pc.f;
-  if (pc.h != 0u) {
-    uint contrast = Quantile(pc.g);
-    if (contrast < pc.h) floor_high = min(pc.f, max(max(pc.f * contrast / pc.h, pc.f / 4u), 3u * Quantile(pc.i)));
+  if (lid == 0u) {
+    uint contrast = Quantile(pc.g), noise = 3u * Quantile(pc.i);
+    uint floor_high = pc.f;
+    if (pc.h != 0u && contrast < pc.h) floor_high = min(pc.f, max(max(pc.f * contrast / pc.h, pc.f / 4u), noise));
+    frame_high = max(Quantile(pc.a), floor_high);
+    frame_contrast = contrast;
+    frame_noise = noise;
   }
-  uint high = max(Quantile(pc.a), floor_high);
-  params[0] = high * pc.e / 1000u;
-  params[1] = high;
+  barrier();
+  uint high = frame_high, contrast = frame_contrast;
+  for (uint t = lid; t < pc.l; t += kGroupSize) {
+    uint m = hist[kBins + 1u + t];
+    // m >= contrast whenever contrast is 0: the max() only keeps the unused division defined.
+    bool lowered = m < contrast && m >= high;
+    uint tile_high = lowered ? min(high, max(max(high * m / max(contrast, 1u), high / 4u), frame_noise)) : high;
+    params[2u * t] = tile_high * pc.e / 1000u;
+    params[2u * t + 1u] = tile_high;
+  }
 }
 
 // The Gaussian (when BLUR) and the Sobel of this invocation's chunk and rows, counting the
@@ -248,7 +272,10 @@ void main() {
   uint cx = id % pc.c, block = id / pc.c;
   int h = int(pc.height);
   int y0 = int(block * kRows);
-  if (y0 < h) Gradients(cx, y0, min(y0 + int(kRows), h), h);  // no return: barriers follow
+  if (y0 < h) {
+    Gradients(cx, y0, min(y0 + int(kRows), h), h);  // no return: barriers follow
+    atomicMax(hist[kBins + 1u + (uint(y0) >> pc.j) * pc.k + ((16u * cx) >> pc.j)], chunk_max);
+  }
   barrier();
   for (uint b = lid; b < kBins; b += kGroupSize) {
     uint v = local_hist[b];

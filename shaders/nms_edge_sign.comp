@@ -12,13 +12,15 @@
 //   hysteresis dispatch a pass over dx and dy.
 // In: dx, dy as gaussian_sobel_thresholds.comp packs them (two int16 per uint, rows of pc.d =
 // 4 * pc.b uvec4, i.e. whole mask words; values past the row end are don't-care),
-// mag = |dx| + |dy| recomputed; thresholds from binding 4 (gaussian_sobel_thresholds.comp).
+// mag = |dx| + |dy| recomputed; thresholds from binding 4 (gaussian_sobel_thresholds.comp): tile
+// t's pair at params[2 t], params[2 t + 1], t = (y >> pc.e) * pc.f + (x >> pc.e) (kernels/nms.h).
 // Out: binding 5, the bit masks of hysteresis.comp: per row y and 32-pixel word s (pc.b words per
 // row), uvec2(weak or strong, strong), bit k = pixel x = 32 s + k; the outermost rows and columns
 // and the bits past the row end are 0. Binding 6, the edge map: packed bytes (4 pixels per uint,
 // little-endian), rows of 32 * pc.b bytes, every word written (the host reads the first w bytes).
 // One invocation: one mask word (32 pixels) of kRows rows, the three gradient rows carried in
-// registers; 8 pixels (one uvec4 per row) at a time in vector registers.
+// registers; 8 pixels (one uvec4 per row) at a time in vector registers. Tiles are >= 32 px, so
+// the word's rows and pixels lie in one tile.
 #version 450
 layout(local_size_x = 64) in;
 
@@ -27,7 +29,7 @@ layout(std430, set = 0, binding = 2) readonly buffer Dy { uvec4 dy[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Thresholds { uint params[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer Masks { uvec2 masks[]; };
 layout(std430, set = 0, binding = 6) writeonly buffer Edges { uvec4 edges[]; };
-layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; } pc;
+layout(push_constant) uniform Params { uint width; uint height; uint a; uint b; uint c; uint d; uint e; uint f; } pc;
 
 const uint kRows = 8u;
 
@@ -131,7 +133,8 @@ void main() {
   int y0 = int(block * kRows);
   if (y0 >= h) return;
   int y1 = min(y0 + int(kRows), h);
-  int low = int(params[0]), high = int(params[1]);
+  uint tile = (uint(y0) >> pc.e) * pc.f + ((32u * s) >> pc.e);
+  int low = int(params[2u * tile]), high = int(params[2u * tile + 1u]);
   bool has_left = s > 0u, has_right = s + 1u < pc.b;
   int x0 = int(32u * s);
   // Rows y - 1, y, y + 1, carried down the block; rows 0 and h - 1 are all zero (border).

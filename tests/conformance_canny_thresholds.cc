@@ -1,5 +1,5 @@
-// canny_thresholds: the SIMD backend's magnitude histogram equals the scalar reference's
-// (kernels/canny_thresholds.h), so the thresholds agree too.
+// canny_thresholds: the SIMD backend's magnitude histogram and tiles' maxima equal the scalar
+// reference's (kernels/canny_thresholds.h), so the thresholds agree too.
 #include <gtest/gtest.h>
 
 #ifdef ELLIPSEKIT_HAVE_SIMD
@@ -10,12 +10,19 @@ namespace ellipsekit::conformance {
 namespace {
 
 void CheckHistogram(const std::string& what, const Gradients& g) {
-  ExpectAllTargetsMatchScalar("magnitude_histogram " + what, [&](const KernelTable& k) {
-    std::vector<Plane> out;
-    out.push_back(MakePlane<std::uint32_t>("hist", kMaxMagnitude + 1, 1, kMaxMagnitude + 1));
-    k.magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, out[0].data<std::uint32_t>());
-    return out;
-  });
+  // 32 / 64 px tiles (a frame's edge cuts the last ones), and one tile.
+  for (int shift : {kNmsMinTileShift, kNmsMinTileShift + 1, kNmsOneTileShift}) {
+    const int tiles = TilesAlong(g.width, shift) * TilesAlong(g.height, shift);
+    ExpectAllTargetsMatchScalar("magnitude_histogram " + what + " tile shift " + std::to_string(shift),
+                                [&](const KernelTable& k) {
+                                  std::vector<Plane> out;
+                                  out.push_back(MakePlane<std::uint32_t>("hist", kMaxMagnitude + 1, 1, kMaxMagnitude + 1));
+                                  out.push_back(MakePlane<std::uint16_t>("tile_max", tiles, 1, tiles));
+                                  k.magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, shift,
+                                                        out[0].data<std::uint32_t>(), out[1].data<std::uint16_t>());
+                                  return out;
+                                });
+  }
 }
 
 TEST(ConformanceCannyThresholds, AllImagesAllTargets) {

@@ -34,12 +34,15 @@ TEST(ConformanceEdgeSign, AllImagesAllTargets) {
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
-    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8, 0);
+    CannyTiles tiles;
+    tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
+    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
+                                        tiles.tile_max.data());
+    SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
     const std::ptrdiff_t edge_stride = g.width + 2;
     std::vector<std::uint8_t> edges(static_cast<std::size_t>(edge_stride) * g.height, 0);
     std::vector<std::int32_t> stack(static_cast<std::size_t>(g.width) * g.height);
-    ScalarKernels().nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, th.low, th.high,
+    ScalarKernels().nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, tiles.view(),
                         edges.data(), edge_stride);
     ScalarKernels().hysteresis(edges.data(), g.width, g.height, edge_stride, stack.data());
     CheckEdgeSign(SizeOf(c), edges, edge_stride, g, c.out_pad);

@@ -31,11 +31,14 @@ TEST(ConformanceHysteresis, AllImagesAllTargets) {
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
-    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8, 0);
+    CannyTiles tiles;
+    tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
+    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
+                                        tiles.tile_max.data());
+    SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
     std::vector<std::uint8_t> nms(static_cast<std::size_t>(g.stride) * g.height, kSentinel);
-    ScalarKernels().nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, th.low,
-                        th.high, nms.data(), g.stride);
+    ScalarKernels().nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, tiles.view(),
+                        nms.data(), g.stride);
     CheckHysteresis(SizeOf(c), nms, g.width, g.height, g.stride);
   }
 }

@@ -2,32 +2,57 @@
 #include <gtest/gtest.h>
 
 #ifdef ELLIPSEKIT_HAVE_SIMD
+#include <random>
+
 #include "kernels/canny_thresholds.h"
 #include "tests/conformance_util.h"
 
 namespace ellipsekit::conformance {
 namespace {
 
-void CheckNms(const std::string& what, const Gradients& g, int low, int high, int out_pad) {
+void CheckNms(const std::string& what, const Gradients& g, const NmsThresholds& th, int out_pad) {
   const std::ptrdiff_t out_stride = g.width + out_pad;
-  ExpectAllTargetsMatchScalar("nms " + what + " low=" + std::to_string(low) + " high=" + std::to_string(high),
-                              [&](const KernelTable& k) {
-                                std::vector<Plane> out;
-                                out.push_back(MakePlane<std::uint8_t>("out", g.width, g.height, out_stride));
-                                k.nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride,
-                                      low, high, out[0].data<std::uint8_t>(), out_stride);
-                                return out;
-                              });
+  ExpectAllTargetsMatchScalar("nms " + what, [&](const KernelTable& k) {
+    std::vector<Plane> out;
+    out.push_back(MakePlane<std::uint8_t>("out", g.width, g.height, out_stride));
+    k.nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, th, out[0].data<std::uint8_t>(),
+          out_stride);
+    return out;
+  });
+}
+
+void CheckOnePair(const std::string& what, const Gradients& g, int low, int high, int out_pad) {
+  const NmsOnePair pair{low, high};
+  CheckNms(what + " low=" + std::to_string(low) + " high=" + std::to_string(high), g, pair.view(), out_pad);
+}
+
+// Tiles of 32 px with a different pair each (drawn from [0, range]): runs that start and end at
+// tile borders, inside a vector's reach of the frame's first and last columns.
+void CheckTiles(const std::string& what, const Gradients& g, int range, std::uint32_t seed, int out_pad) {
+  CannyTiles tiles;
+  tiles.Resize(g.width, g.height, kNmsMinTileShift);
+  std::mt19937 rng(seed);
+  for (std::size_t t = 0; t < tiles.high.size(); ++t) {
+    tiles.high[t] = static_cast<std::int32_t>(rng() % static_cast<std::uint32_t>(range + 1));
+    tiles.low[t] = tiles.high[t] / 2;
+  }
+  CheckNms(what + " 32 px tiles", g, tiles.view(), out_pad);
 }
 
 TEST(ConformanceNms, AllImagesAllTargets) {
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
+  std::uint32_t seed = 300;
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
-    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, hist.data());
-    const CannyThresholds th = ThresholdsFromHistogram(hist.data(), 900, 400, 8, 0);
-    CheckNms(SizeOf(c), g, th.low, th.high, c.out_pad);
-    CheckNms(SizeOf(c), g, 0, 0, c.out_pad);  // every local maximum counts
+    CannyTiles tiles;
+    tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
+    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
+                                        tiles.tile_max.data());
+    SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
+    CheckOnePair(SizeOf(c), g, tiles.frame.low, tiles.frame.high, c.out_pad);
+    CheckNms(SizeOf(c) + " 64 px tiles as detect() picks them", g, tiles.view(), c.out_pad);
+    CheckOnePair(SizeOf(c), g, 0, 0, c.out_pad);  // every local maximum counts
+    CheckTiles(SizeOf(c), g, 60, seed++, c.out_pad);
   }
 }
 
@@ -39,11 +64,16 @@ TEST(ConformanceNms, RandomGradients) {
     for (auto [w, h] : {std::pair{1, 1}, {2, 3}, {3, 3}, {7, 5}, {70, 4}, {129, 9}, {640, 480}}) {
       const Gradients g = RandomGradients(w, h, w + 5, range, seed++);
       const std::string what = "random range=" + std::to_string(range) + " " + std::to_string(w) + "x" + std::to_string(h);
-      CheckNms(what, g, 0, range, 3);
-      CheckNms(what, g, range / 2, range, 0);
+      CheckOnePair(what, g, 0, range, 3);
+      CheckOnePair(what, g, range / 2, range, 0);
+      CheckTiles(what, g, range, seed++, 2);
     }
   }
-  for (int w = 1; w <= 70; ++w) CheckNms("random w=" + std::to_string(w), RandomGradients(w, 4, w, 3, seed++), 0, 2, 1);
+  for (int w = 1; w <= 70; ++w) {
+    const Gradients g = RandomGradients(w, 4, w, 3, seed++);
+    CheckOnePair("random w=" + std::to_string(w), g, 0, 2, 1);
+    CheckTiles("random w=" + std::to_string(w), g, 3, seed++, 1);
+  }
 }
 
 }  // namespace

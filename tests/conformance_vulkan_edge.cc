@@ -126,13 +126,58 @@ TEST(ConformanceVulkanEdge, DimFramesLowerTheFloor) {
       const Options o;
       Edges e;
       ScalarEdges(view, o, &e);
-      const int high = e.th.high;
+      const int high = e.tiles.frame.high;
       // Q(permille) of the same histogram: the thresholds without a floor.
       auto quantile = [&](int permille) { return ThresholdsFromHistogram(e.hist.data(), permille, 0, 0, 0).high; };
       ASSERT_GT(high, quantile(900)) << what << ": the floor must decide";
       ASSERT_LT(high, o.canny_min_high) << what << ": the floor must be lowered";
       if (noise > 2) ASSERT_EQ(high, kNoiseFloorFactor * quantile(kNoisePermille)) << what << ": the noise must set it";
       ExpectSameBothBlurs(stage, view, what);
+    }
+  }
+}
+
+// Frames with a shadow (grey levels / 3 left of a slanted line): the device picks every tile's
+// thresholds from its own tiles' maxima (kernels/canny_thresholds.h) exactly as the host does, at
+// every tile size. The frames of each tile size are checked to hold tiles whose pair is lowered by
+// their contrast, tiles lowered to the bound, and tiles that keep the frame's pair.
+TEST(ConformanceVulkanEdge, ShadowedFramesLowerTileThresholds) {
+  REQUIRE_VULKAN(stage);
+  std::uint32_t seed = 500;
+  for (const int tile : {32, 64, 128, 0}) {
+    int by_contrast = 0, bounded = 0, kept = 0;
+    for (const auto& s : {std::pair{640, 480}, std::pair{333, 250}, std::pair{1280, 720}}) {
+      const int w = s.first, h = s.second;
+      const std::string what = "shadowed shapes " + std::to_string(w) + "x" + std::to_string(h) + ", tile " +
+                               std::to_string(tile);
+      auto img = Shapes(w, h, seed++);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (2 * x + y < w) img[y * w + x] = static_cast<std::uint8_t>(img[y * w + x] / 3);
+      const ImageView view{img.data(), w, h, w};
+      Options o;
+      o.canny_tile = tile;
+      Edges e;
+      ScalarEdges(view, o, &e);
+      const CannyTiles& t = e.tiles;
+      const int bound = std::max(t.frame.high / 4, t.frame.noise);
+      for (const std::int32_t high : t.high) {
+        kept += high == t.frame.high;
+        bounded += high == bound;
+        by_contrast += high < t.frame.high && high > bound;
+      }
+      for (bool blur : {true, false}) {
+        o.gaussian_blur = blur;
+        ExpectSame(stage, view, o, what);
+      }
+    }
+    const std::string what = "tile " + std::to_string(tile);
+    EXPECT_GT(kept, 0) << what << ": bright tiles keep the frame's pair";
+    if (tile == 0) {
+      EXPECT_EQ(by_contrast + bounded, 0) << what << ": one tile per frame keeps the frame's pair";
+    } else {
+      EXPECT_GT(by_contrast, 0) << what << ": some tiles must be lowered by their contrast";
+      EXPECT_GT(bounded, 0) << what << ": some tiles must reach the bound";
     }
   }
 }

@@ -36,7 +36,7 @@ struct Edges {
   std::vector<std::int16_t> dx, dy;
   std::vector<std::uint8_t> edge_map;
   std::vector<std::uint32_t> hist;  // the magnitude histogram the thresholds were picked from
-  CannyThresholds th;
+  CannyTiles tiles;                 // the thresholds: tiles.frame the frame's, tiles.high / low each tile's
 };
 
 // The scalar edge stage exactly as runtime/detector.cc runs it (the Gaussian only with
@@ -59,10 +59,11 @@ inline void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
     src_stride = w;
   }
   scalar::Sobel(src, src_stride, w, h, out->dx.data(), out->dy.data(), mag.data(), w);
-  scalar::MagnitudeHistogram(mag.data(), w, h, w, out->hist.data());
-  out->th = ThresholdsFromHistogram(out->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                                    o.canny_contrast_ref);
-  scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, out->th.low, out->th.high, nms.data(), w);
+  out->tiles.Resize(w, h, CannyTileShift(o.canny_tile));
+  scalar::MagnitudeHistogram(mag.data(), w, h, w, out->tiles.shift, out->hist.data(), out->tiles.tile_max.data());
+  SelectThresholds(out->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
+                   o.canny_contrast_ref, &out->tiles);
+  scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, out->tiles.view(), nms.data(), w);
   scalar::Hysteresis(nms.data(), w, h, w, stack.data());
   scalar::EdgeSign(nms.data(), w, out->dx.data(), out->dy.data(), w, w, h, out->edge_map.data(), w);
 }

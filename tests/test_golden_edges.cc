@@ -175,10 +175,13 @@ OurCanny RunOurs(const cv::Mat& g, const Options& o) {
   std::vector<std::uint16_t> mag(n);
   scalar::Sobel(r.blurred.data, w, w, h, dx.data(), dy.data(), mag.data(), w);
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  scalar::MagnitudeHistogram(mag.data(), w, h, w, hist.data());
+  std::uint16_t frame_max = 0;
+  scalar::MagnitudeHistogram(mag.data(), w, h, w, kNmsOneTileShift, hist.data(), &frame_max);
   r.th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref);
   r.edges.create(h, w, CV_8UC1);
-  scalar::Nms(dx.data(), dy.data(), mag.data(), w, h, w, r.th.low, r.th.high, r.edges.data, w);
+  // One pair for the frame, as cv::Canny takes it (the local-contrast tiles are our addition).
+  const NmsOnePair pair{r.th.low, r.th.high};
+  scalar::Nms(dx.data(), dy.data(), mag.data(), w, h, w, pair.view(), r.edges.data, w);
   std::vector<std::int32_t> stack(n);
   scalar::Hysteresis(r.edges.data, w, h, w, stack.data());
   return r;
@@ -278,7 +281,8 @@ TEST(GoldenEdges, CannyMatchesOpenCvAcrossThresholds) {
       ours.blurred = base.blurred;
       ours.th = {p[0], p[1]};
       ours.edges.create(h, w, CV_8UC1);
-      scalar::Nms(dx.data(), dy.data(), mag.data(), w, h, w, p[0], p[1], ours.edges.data, w);
+      const NmsOnePair pair{p[0], p[1]};
+      scalar::Nms(dx.data(), dy.data(), mag.data(), w, h, w, pair.view(), ours.edges.data, w);
       std::vector<std::int32_t> stack(n);
       scalar::Hysteresis(ours.edges.data, w, h, w, stack.data());
       cv::Mat cv_edges;

@@ -89,6 +89,11 @@ struct Options {
   // proportion, never under canny_min_high / 4 nor 3x its median magnitude (its noise):
   // kernels/canny_thresholds.h, measured in docs/contrast.md; 0: a fixed floor.
   int canny_contrast_ref = 200;
+  // Local contrast: square tiles of this many px (0, or a power of two from 32 to 16384) whose
+  // largest magnitude is under the frame's 99.5th percentile (and at least its high threshold) get
+  // thresholds lowered in proportion, with the same bounds (a dim region of a bright frame: a top
+  // in a shadow); 0: one pair per frame. kernels/canny_thresholds.h, measured in docs/contrast.md.
+  int canny_tile = 64;
   // A noisy frame (kernels/noise_sigma.h: its noise's standard deviation, grey levels) is smoothed
   // by one more 3x3 binomial pass before the edges when its noise is >= denoise_min_sigma, and by
   // two when >= 1.5 x denoise_min_sigma (measured in docs/noise.md); <= 0: never.

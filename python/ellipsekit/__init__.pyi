@@ -35,6 +35,7 @@ class Detector:
         canny_low_permille: int = ...,
         canny_min_high: int = ...,
         canny_contrast_ref: int = ...,
+        canny_tile: int = ...,
         min_curve_points: int = ...,
         obb_rule: Literal["min_side", "side_ratio"] = ...,
         obb_threshold: float = ...,

@@ -164,7 +164,7 @@ struct EdgeStage {
   Plane<std::uint8_t> blurred;
   Plane<std::int16_t> dx, dy;
   Plane<std::uint16_t> mag;
-  CannyThresholds th;
+  CannyTiles th;  // the frame's pair and every tile's
   Plane<std::uint8_t> nms, hyst, edges;
 };
 
@@ -193,12 +193,12 @@ void RunEdgeChain(const KernelTable& k, const ImageView& img, const Options& o, 
   e->mag = Plane<std::uint16_t>(w, h);
   k.sobel(src, src_stride, w, h, e->dx.data(), e->dy.data(), e->mag.data(), e->dx.stride);
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  k.magnitude_histogram(e->mag.data(), w, h, e->mag.stride, hist.data());
-  e->th = ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                                  o.canny_contrast_ref);
+  e->th.Resize(w, h, CannyTileShift(o.canny_tile));
+  k.magnitude_histogram(e->mag.data(), w, h, e->mag.stride, e->th.shift, hist.data(), e->th.tile_max.data());
+  SelectThresholds(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref,
+                   &e->th);
   e->nms = Plane<std::uint8_t>(w, h);
-  k.nms(e->dx.data(), e->dy.data(), e->mag.data(), w, h, e->dx.stride, e->th.low, e->th.high, e->nms.data(),
-        e->nms.stride);
+  k.nms(e->dx.data(), e->dy.data(), e->mag.data(), w, h, e->dx.stride, e->th.view(), e->nms.data(), e->nms.stride);
   e->hyst = e->nms;
   std::vector<std::int32_t> stack(static_cast<std::size_t>(w) * h);
   k.hysteresis(e->hyst.data(), w, h, e->hyst.stride, stack.data());
@@ -277,13 +277,17 @@ void CompareTable(const KernelTable& k, const ImageView& img, const Options& o, 
   rep->Line(image, label, "sobel", sobel_diff);
 
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  k.magnitude_histogram(r.mag.data(), w, h, r.mag.stride, hist.data());
-  const CannyThresholds th =
-      ThresholdsFromHistogram(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref);
-  rep->Line(image, label, "thresholds", (th.low != r.th.low) + (th.high != r.th.high));
+  CannyTiles th;
+  th.Resize(w, h, CannyTileShift(o.canny_tile));
+  k.magnitude_histogram(r.mag.data(), w, h, r.mag.stride, th.shift, hist.data(), th.tile_max.data());
+  SelectThresholds(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref, &th);
+  std::int64_t threshold_diff = (th.frame.low != r.th.frame.low) + (th.frame.high != r.th.frame.high);
+  for (std::size_t t = 0; t < th.high.size(); ++t)
+    threshold_diff += (th.low[t] != r.th.low[t]) + (th.high[t] != r.th.high[t]);
+  rep->Line(image, label, "thresholds", threshold_diff);
 
   Plane<std::uint8_t> nms(w, h);
-  k.nms(r.dx.data(), r.dy.data(), r.mag.data(), w, h, r.dx.stride, r.th.low, r.th.high, nms.data(), nms.stride);
+  k.nms(r.dx.data(), r.dy.data(), r.mag.data(), w, h, r.dx.stride, r.th.view(), nms.data(), nms.stride);
   rep->Line(image, label, "nms", CountDiff(nms.v, r.nms.v));
 
   Plane<std::uint8_t> hyst = r.nms;

@@ -27,6 +27,7 @@
 #include "tools/eval/metrics.h"
 #include "tools/eval/pr_curve.h"
 #include "tools/eval/sensor_noise.h"
+#include "tools/eval/shadows.h"
 
 namespace ellipsekit::cli {
 
@@ -51,6 +52,9 @@ const char kEvalUsage[] =
     "                    axes S times), to measure how detection holds across resolutions\n"
     "  --contrast C      multiply every grey level by C (0.05 to 1; after --scale, before --noise;\n"
     "                    rounded): a dim exposure, every contrast C times, to measure low contrast\n"
+    "  --shadow G        darken every image under three soft round shadows of gain G (0.05 to 1;\n"
+    "                    after --contrast; placed by the image's stem, the same on every run): a dim\n"
+    "                    region in a bright frame, to measure local contrast (tools/eval/shadows.h)\n"
     "  --noise SIGMA     add white Gaussian noise of standard deviation SIGMA grey levels (0 to 64) to\n"
     "                    every image (after --scale; rounded, saturated), drawn from a generator seeded\n"
     "                    by the image's stem, the same on every run: how detection holds on a noisy sensor\n"
@@ -79,6 +83,7 @@ struct EvalArgs {
   bool per_image = false;
   double scale = 1;
   double contrast = 1;  // --contrast
+  double shadow = 1;    // --shadow
   double noise = 0;     // --noise
   std::string json_path;
   std::string draw_dir;
@@ -143,6 +148,8 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& argv, bool* help) {
       a.scale = ParseDoubleValue(name, r.Value(), 0.1, 8);
     } else if (name == "--contrast") {
       a.contrast = ParseDoubleValue(name, r.Value(), 0.05, 1);
+    } else if (name == "--shadow") {
+      a.shadow = ParseDoubleValue(name, r.Value(), 0.05, 1);
     } else if (name == "--noise") {
       a.noise = ParseDoubleValue(name, r.Value(), 0, 64);
     } else if (name == "--by") {
@@ -278,6 +285,7 @@ int RunEval(const std::vector<std::string>& argv) {
     } else if (st = eval::ReadEllipses(item.truth_path, &truth); st.ok()) {
       if (args.scale != 1) Rescale(args.scale, &image.gray, &truth);
       if (args.contrast != 1) image.gray.convertTo(image.gray, CV_8U, args.contrast);  // --contrast
+      eval::AddShadows(args.shadow, eval::StemSeed(item.stem), &image.gray);              // --shadow
       eval::AddSensorNoise(args.noise, eval::StemSeed(item.stem), &image.gray);           // --noise
       const ImageView view = ViewOf(image.gray);
       if (!warmed_up) {
