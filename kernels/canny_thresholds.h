@@ -34,7 +34,6 @@
 // its noise and texture (measured: 17-39 % more edge pixels for no detection, docs/contrast.md).
 // A tile's thresholds are never above the frame's; one tile covering the frame has M >= Q(995),
 // so it gets the frame's pair (the classic rule). Nms (kernels/nms.h) reads the pixel's tile's pair.
-// Measured in docs/contrast.md.
 // Exact: integer only. The histogram and the tiles' maxima are the kernel; each quantile walk is at
 // most 2041 steps of scalar code, and a tile's pair a few integer operations.
 // shaders/gaussian_sobel_thresholds.comp repeats the three constants below on the device.
