@@ -72,10 +72,9 @@ void PrepareFrom(const cv::Mat& frame, Prepared* p) {
   const ek::Options o;
   ek::scalar::Gaussian(p->frame.data, w, w, h, p->blurred.data(), w);
   ek::scalar::Sobel(p->blurred.data(), w, w, h, p->dx.data(), p->dy.data(), p->mag.data(), w);
-  p->tiles.Resize(w, h, ek::CannyTileShift(o.canny_tile));
+  p->tiles.Resize(w, h, o);
   ek::scalar::MagnitudeHistogram(p->mag.data(), w, h, w, p->tiles.shift, p->hist.data(), p->tiles.tile_max.data());
-  ek::SelectThresholds(p->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                       o.canny_contrast_ref, &p->tiles);
+  ek::SelectThresholds(p->hist.data(), o, &p->tiles);
   p->th = p->tiles.frame;
   ek::scalar::Nms(p->dx.data(), p->dy.data(), p->mag.data(), w, h, w, p->tiles.view(), p->nms.data(), w);
   p->hyst = p->nms;

@@ -190,8 +190,7 @@ void RunKernel(benchmark::State& st, const std::string& kernel, std::int64_t tar
     const ek::Options o;
     for (auto _ : st) {
       t.magnitude_histogram(p.mag.data(), w, h, w, tiles.shift, hist.data(), tiles.tile_max.data());
-      ek::SelectThresholds(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                           o.canny_contrast_ref, &tiles);
+      ek::SelectThresholds(hist.data(), o, &tiles);
       benchmark::DoNotOptimize(tiles.high.data());
     }
     bytes = 2 * n;
@@ -341,8 +340,7 @@ void CpuEdgeStage(const ek::KernelTable& k, const cv::Mat& frame, Prepared* b) {
   k.gaussian(frame.data, static_cast<std::ptrdiff_t>(frame.step[0]), w, h, b->blurred.data(), w);
   k.sobel(b->blurred.data(), w, w, h, b->dx.data(), b->dy.data(), b->mag.data(), w);
   k.magnitude_histogram(b->mag.data(), w, h, w, b->tiles.shift, b->hist.data(), b->tiles.tile_max.data());
-  ek::SelectThresholds(b->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                       o.canny_contrast_ref, &b->tiles);
+  ek::SelectThresholds(b->hist.data(), o, &b->tiles);
   k.nms(b->dx.data(), b->dy.data(), b->mag.data(), w, h, w, b->tiles.view(), b->nms.data(), w);
   k.hysteresis(b->nms.data(), w, h, w, b->stack.data());
   k.edge_sign(b->nms.data(), w, b->dx.data(), b->dy.data(), w, w, h, b->edges.data(), w);

@@ -43,6 +43,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ellipsekit/options.h"
 #include "kernels/nms.h"
 
 namespace ellipsekit {
@@ -83,6 +84,7 @@ struct CannyTiles {
   std::vector<std::uint16_t> tile_max;
   std::vector<std::int32_t> low, high;
   void Resize(int width, int height, int tile_shift);
+  void Resize(int width, int height, const Options& o) { Resize(width, height, CannyTileShift(o.canny_tile)); }
   NmsThresholds view() const { return {shift, tiles_x, low.data(), high.data()}; }
 };
 
@@ -90,6 +92,11 @@ struct CannyTiles {
 // histogram and tiles->tile_max as the magnitude_histogram kernel left them.
 void SelectThresholds(const std::uint32_t* hist, int high_permille, int low_permille, int min_high,
                       int contrast_ref, CannyTiles* tiles);
+// The same with the rule's parameters taken from `o` (canny_high/low_permille, canny_min_high,
+// canny_contrast_ref), as the detector runs it.
+inline void SelectThresholds(const std::uint32_t* hist, const Options& o, CannyTiles* tiles) {
+  SelectThresholds(hist, o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref, tiles);
+}
 
 namespace scalar {
 // hist: kMaxMagnitude + 1 bins, overwritten with the counts of rows 0, kHistogramRowStep, ...;

@@ -195,7 +195,7 @@ void Detector::Impl::Resize(int w, int h) {
   blurred.resize(n); nms.resize(n); edge_map.resize(n);
   dx.resize(n); dy.resize(n); mag.resize(n);
   hist.resize(kMaxMagnitude + 1);
-  tiles.Resize(w, h, CannyTileShift(options.canny_tile));
+  tiles.Resize(w, h, options);
   stack.resize(n);  // hysteresis: every pixel at most once
   claims.Resize(w, h);
   refit_scratch.Reserve(w, h);
@@ -277,8 +277,7 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
     }
     k.sobel(src, src_stride, w, h, dx.data(), dy.data(), mag.data(), w);
     k.magnitude_histogram(mag.data(), w, h, w, tiles.shift, hist.data(), tiles.tile_max.data());
-    SelectThresholds(hist.data(), options.canny_high_permille, options.canny_low_permille, options.canny_min_high,
-                     options.canny_contrast_ref, &tiles);
+    SelectThresholds(hist.data(), options, &tiles);
     k.nms(dx.data(), dy.data(), mag.data(), w, h, w, tiles.view(), nms.data(), w);
     k.hysteresis(nms.data(), w, h, w, stack.data());
     k.edge_sign(nms.data(), w, dx.data(), dy.data(), w, w, h, edge_map.data(), w);

@@ -59,10 +59,9 @@ inline void ScalarEdges(const ImageView& image, const Options& o, Edges* out) {
     src_stride = w;
   }
   scalar::Sobel(src, src_stride, w, h, out->dx.data(), out->dy.data(), mag.data(), w);
-  out->tiles.Resize(w, h, CannyTileShift(o.canny_tile));
+  out->tiles.Resize(w, h, o);
   scalar::MagnitudeHistogram(mag.data(), w, h, w, out->tiles.shift, out->hist.data(), out->tiles.tile_max.data());
-  SelectThresholds(out->hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high,
-                   o.canny_contrast_ref, &out->tiles);
+  SelectThresholds(out->hist.data(), o, &out->tiles);
   scalar::Nms(out->dx.data(), out->dy.data(), mag.data(), w, h, w, out->tiles.view(), nms.data(), w);
   scalar::Hysteresis(nms.data(), w, h, w, stack.data());
   scalar::EdgeSign(nms.data(), w, out->dx.data(), out->dy.data(), w, w, h, out->edge_map.data(), w);

@@ -193,10 +193,9 @@ void RunEdgeChain(const KernelTable& k, const ImageView& img, const Options& o, 
   e->mag = Plane<std::uint16_t>(w, h);
   k.sobel(src, src_stride, w, h, e->dx.data(), e->dy.data(), e->mag.data(), e->dx.stride);
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
-  e->th.Resize(w, h, CannyTileShift(o.canny_tile));
+  e->th.Resize(w, h, o);
   k.magnitude_histogram(e->mag.data(), w, h, e->mag.stride, e->th.shift, hist.data(), e->th.tile_max.data());
-  SelectThresholds(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref,
-                   &e->th);
+  SelectThresholds(hist.data(), o, &e->th);
   e->nms = Plane<std::uint8_t>(w, h);
   k.nms(e->dx.data(), e->dy.data(), e->mag.data(), w, h, e->dx.stride, e->th.view(), e->nms.data(), e->nms.stride);
   e->hyst = e->nms;
@@ -278,9 +277,9 @@ void CompareTable(const KernelTable& k, const ImageView& img, const Options& o, 
 
   std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   CannyTiles th;
-  th.Resize(w, h, CannyTileShift(o.canny_tile));
+  th.Resize(w, h, o);
   k.magnitude_histogram(r.mag.data(), w, h, r.mag.stride, th.shift, hist.data(), th.tile_max.data());
-  SelectThresholds(hist.data(), o.canny_high_permille, o.canny_low_permille, o.canny_min_high, o.canny_contrast_ref, &th);
+  SelectThresholds(hist.data(), o, &th);
   std::int64_t threshold_diff = (th.frame.low != r.th.frame.low) + (th.frame.high != r.th.frame.high);
   for (std::size_t t = 0; t < th.high.size(); ++t)
     threshold_diff += (th.low[t] != r.th.low[t]) + (th.high[t] != r.th.high[t]);
