@@ -184,7 +184,7 @@ struct Options {
   // 950 -> 810 / 952; scenes seed 7 513 / 555 -> 514 / 556, seed 11 532 -> 533, seed 23 unchanged;
   // crowded seed 1 7784 -> 7782 (of 8032), seed 2 unchanged, can layout 1284 -> 1282, cup layout
   // 1367 -> 1368, small rings 3277 -> 3278; every shared set at 0.5x-3x unchanged
-  // (docs/hard-tabletop.md).
+  // (docs/hard-tabletop-rules.md).
   bool cluster_recessed_rims = true;
   // Our addition: a kept ellipse whose cluster has no outer rim is replaced by the concentric,
   // same-shaped ellipse 1.04-1.45x larger that the edge map supports over at least this share of
