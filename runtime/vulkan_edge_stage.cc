@@ -148,6 +148,9 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   const std::uint32_t uw = static_cast<std::uint32_t>(rec.width), uh = static_cast<std::uint32_t>(rec.height);
   const std::uint64_t row_blocks = CeilDiv(static_cast<std::uint64_t>(rec.height), kRowsPerInvocation);
   const std::uint64_t chunk_groups = CeilDiv(static_cast<std::uint64_t>(chunks_) * row_blocks, kGroup);
+  const int shift = static_cast<int>(rec.tile_shift);
+  const std::uint32_t tiles_x = static_cast<std::uint32_t>(TilesAlong(rec.width, shift));
+  const std::uint32_t tiles = tiles_x * static_cast<std::uint32_t>(TilesAlong(rec.height, shift));
   constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   constexpr VkPipelineStageFlags kTransfer = VK_PIPELINE_STAGE_TRANSFER_BIT;
   constexpr VkAccessFlags kRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -170,12 +173,12 @@ Status VulkanEdgeStage::Record(const Recording& rec) {
   const std::uint32_t frame_push[kPushWords] = {uw,      uh,           rec.need,         padded_row_vec4_,
                                                 chunks_, plane_row_vec4, rec.low_permille, rec.min_high,
                                                 rec.contrast_need, rec.contrast_ref, rec.noise_need,
-                                                rec.tile_shift, rec.tiles_x, rec.tiles};
+                                                rec.tile_shift, tiles_x, tiles};
   Dispatch1D(cb, rec.blur ? kGaussianSobelThresholds : kSobelThresholds, chunk_groups, frame_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepGaussianSobelThresholds);
   const std::uint32_t mask_push[kPushWords] = {uw, uh, 0, mask_words_, chunks_, plane_row_vec4, rec.tile_shift,
-                                               rec.tiles_x, 0, 0, 0, 0, 0, 0};
+                                               tiles_x, 0, 0, 0, 0, 0, 0};
   Dispatch1D(cb, kNmsEdgeSign, CeilDiv(static_cast<std::uint64_t>(mask_words_) * row_blocks, kGroup), mask_push);
   program_.Barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kRW);
   timestamp(cb, kStepNmsEdgeSign);
@@ -225,7 +228,6 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
   auto need_for = [counted](int permille) {
     return static_cast<std::uint32_t>((static_cast<std::uint64_t>(std::max(permille, 0)) * counted + 999) / 1000);
   };
-  const int shift = CannyTileShift(options.canny_tile);
   const Recording want{w,
                        h,
                        options.gaussian_blur,
@@ -237,9 +239,7 @@ Status VulkanEdgeStage::Run(const ImageView& image, const Options& options, std:
                        need_for(kContrastPermille),
                        static_cast<std::uint32_t>(options.canny_contrast_ref),
                        need_for(kNoisePermille),
-                       static_cast<std::uint32_t>(shift),
-                       static_cast<std::uint32_t>(TilesAlong(w, shift)),
-                       static_cast<std::uint32_t>(TilesAlong(w, shift) * TilesAlong(h, shift))};
+                       static_cast<std::uint32_t>(CannyTileShift(options.canny_tile))};
   if (!(recorded_ == want)) {
     st = Record(want);
     if (!st.ok()) return st;

@@ -95,7 +95,7 @@ class VulkanEdgeStage {
     int block_passes = 0;  // hysteresis_blocks.comp dispatches
     // The thresholds' push constants (shaders/gaussian_sobel_thresholds.comp).
     std::uint32_t need = 0, low_permille = 0, min_high = 0, contrast_need = 0, contrast_ref = 0, noise_need = 0;
-    std::uint32_t tile_shift = 0, tiles_x = 0, tiles = 0;  // kernels/canny_thresholds.h CannyTiles
+    std::uint32_t tile_shift = 0;  // kernels/canny_thresholds.h CannyTiles (the tiles follow from it and the size)
     bool operator==(const Recording&) const = default;
   };
 
