@@ -31,14 +31,9 @@ void CheckEdgeSign(const std::string& what, const std::vector<std::uint8_t>& edg
 }
 
 TEST(ConformanceEdgeSign, AllImagesAllTargets) {
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
-    CannyTiles tiles;
-    tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
-    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
-                                        tiles.tile_max.data());
-    SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
+    const CannyTiles tiles = TilesOf(g);
     const std::ptrdiff_t edge_stride = g.width + 2;
     std::vector<std::uint8_t> edges(static_cast<std::size_t>(edge_stride) * g.height, 0);
     std::vector<std::int32_t> stack(static_cast<std::size_t>(g.width) * g.height);

@@ -28,14 +28,9 @@ void CheckHysteresis(const std::string& what, const std::vector<std::uint8_t>& n
 
 // NMS maps of real and synthetic images (the input hysteresis sees in detect()).
 TEST(ConformanceHysteresis, AllImagesAllTargets) {
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
-    CannyTiles tiles;
-    tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
-    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
-                                        tiles.tile_max.data());
-    SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
+    const CannyTiles tiles = TilesOf(g);
     std::vector<std::uint8_t> nms(static_cast<std::size_t>(g.stride) * g.height, kSentinel);
     ScalarKernels().nms(g.dx.data(), g.dy.data(), g.mag.data(), g.width, g.height, g.stride, tiles.view(),
                         nms.data(), g.stride);

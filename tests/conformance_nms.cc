@@ -40,15 +40,10 @@ void CheckTiles(const std::string& what, const Gradients& g, int range, std::uin
 }
 
 TEST(ConformanceNms, AllImagesAllTargets) {
-  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
   std::uint32_t seed = 300;
   for (const ImageCase& c : ConformanceImages()) {
     const Gradients g = GradientsOf(c);
-    CannyTiles tiles;
-    tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
-    ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
-                                        tiles.tile_max.data());
-    SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
+    const CannyTiles tiles = TilesOf(g);
     CheckOnePair(SizeOf(c), g, tiles.frame.low, tiles.frame.high, c.out_pad);
     CheckNms(SizeOf(c) + " 64 px tiles as detect() picks them", g, tiles.view(), c.out_pad);
     CheckOnePair(SizeOf(c), g, 0, 0, c.out_pad);  // every local maximum counts

@@ -23,6 +23,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cpu/simd_kernels.h"
+#include "kernels/canny_thresholds.h"
 #include "runtime/backend.h"
 
 namespace ellipsekit::conformance {
@@ -210,6 +211,19 @@ inline Gradients GradientsOf(const ImageCase& c) {
   ScalarKernels().sobel(c.image.data, static_cast<std::ptrdiff_t>(c.image.step), g.width, g.height,
                         g.dx.data(), g.dy.data(), g.mag.data(), g.stride);
   return g;
+}
+
+// The thresholds of g's frame in 64 px tiles (scalar histogram, then SelectThresholds with the
+// default percentiles and contrast reference, but a floor of 8 instead of 40: some conformance
+// images are small and dim, and their NMS maps should still hold edges).
+inline CannyTiles TilesOf(const Gradients& g) {
+  std::vector<std::uint32_t> hist(kMaxMagnitude + 1);
+  CannyTiles tiles;
+  tiles.Resize(g.width, g.height, kNmsMinTileShift + 1);
+  ScalarKernels().magnitude_histogram(g.mag.data(), g.width, g.height, g.stride, tiles.shift, hist.data(),
+                                      tiles.tile_max.data());
+  SelectThresholds(hist.data(), 900, 400, 8, 200, &tiles);
+  return tiles;
 }
 
 // Gradients with no image behind them: every dx, dy in [-range, range] (mag = |dx| + |dy|), so
