@@ -32,6 +32,8 @@ struct ArcScratch {
 };
 
 // Builds the arcs of `curves`, keeping at most options.max_arcs (longest first; sets *capped).
+// `curves` are FilterCurvesByObb's output for the same options: an arc that spans a whole curve
+// is not tested against the OBB rule again.
 void SelectArcs(const KernelTable& kernels, const Curves& curves, const Options& options, ArcScratch* scratch,
                 std::vector<Arc>* arcs, bool* capped);
 
