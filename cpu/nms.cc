@@ -69,10 +69,6 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
   const auto zero = hn::Zero(d32);
   const auto weak = hn::Set(d32, kNmsWeak);
   const auto strong = hn::Set(d32, kNmsStrong);
-  // Locals: the out stores are bytes, which may alias `th`, so its fields would be reloaded.
-  const int shift = th.shift, tiles_x = th.tiles_x;
-  const std::int32_t* const low_tiles = th.low;
-  const std::int32_t* const high_tiles = th.high;
   for (int y = 0; y < height; ++y) {
     std::uint8_t* o = out + y * out_stride;
     if (y == 0 || y == height - 1 || width < 3) {
@@ -86,14 +82,14 @@ void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t
     const std::int16_t* gy = dy + y * stride;
     o[0] = kNmsNone;
     o[width - 1] = kNmsNone;
-    const std::int32_t* low_row = low_tiles + (y >> shift) * tiles_x;
-    const std::int32_t* high_row = high_tiles + (y >> shift) * tiles_x;
+    const std::int32_t* low_row = th.low + (y >> th.shift) * th.tiles_x;
+    const std::int32_t* high_row = th.high + (y >> th.shift) * th.tiles_x;
     for (int tile = 0, x = 1; x < width - 1; ++tile) {
       const int low = low_row[tile], high = high_row[tile];
       const auto low_v = hn::Set(d32, low);
       const auto high_v = hn::Set(d32, high);
       // This tile's columns up to end; the loads reach x + n, which stays <= end <= width - 1.
-      const int end = static_cast<int>(std::min<std::int64_t>(width - 1, (std::int64_t{tile} + 1) << shift));
+      const int end = static_cast<int>(std::min<std::int64_t>(width - 1, (std::int64_t{tile} + 1) << th.shift));
       for (; x + n <= end; x += n) {
         const auto m = LoadMag(d32, du16, mc + x);
         const auto above_low = hn::Gt(m, low_v);
