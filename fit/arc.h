@@ -45,6 +45,10 @@ struct Candidate {
   // A triplet that passed T_c only by its pairs' own fits (Options::fit_pair_centers).
   bool centres_by_fit = false;
 
+  // Passed the clustering's check only once refitted to the edges along its outline
+  // (CandidateCheck::PassesRefitted, Options::rescue_min_coverage).
+  bool rescued = false;
+
   bool FromPair() const { return arcs[2] < 0; }  // a two-arc group (Options::pair_candidates)
 };
 

@@ -78,23 +78,41 @@ bool IsLedgeBelow(const Ellipse& ledge, const Ellipse& top) {
 // Cluster references by the grid cell of their centres. SameEllipse(v, w) implies centres within
 // FirstSame's reach (eq. 17: D >= the centre distance; kRelative: within cluster_relative * b), so the
 // first matching reference in kept order is the smallest matching index among those near v.
+void ClusterScratch::Reserve(std::size_t candidates) {
+  const auto cells = static_cast<std::size_t>((kMaxCells + 1) * (kMaxCells + 1));
+  for (CellLists* lists : {&references, &hopeless}) {
+    lists->head.reserve(cells);
+    lists->next.reserve(candidates);
+  }
+  failed.reserve(candidates);
+}
+
 void ClusterScratch::Start(const std::vector<Candidate>& c) {
   UniformGrid::Box box;
   for (const Candidate& k : c) box.Add(k.ellipse.cx, k.ellipse.cy);
   const double cell =
       box.empty() ? kMinCellPx : std::max({kMinCellPx, (box.x1 - box.x0) / kMaxCells, (box.y1 - box.y0) / kMaxCells});
   grid.Cover(box, cell);
-  head.assign(static_cast<std::size_t>(grid.cells()), -1);
-  next.assign(c.size(), -1);
+  references.Reset(grid.cells(), c.size());
+  failed.clear();
 }
 
-void ClusterScratch::Add(int k, const Ellipse& e) {
+void ClusterScratch::CellLists::Reset(int cells, std::size_t candidates) {
+  head.assign(static_cast<std::size_t>(cells), -1);
+  next.assign(candidates, -1);
+}
+
+void ClusterScratch::CellLists::Add(const UniformGrid& grid, int k, const Ellipse& e) {
   const int i = grid.Cell(e.cx, e.cy);
   next[k] = head[i];
   head[i] = k;
 }
 
-int ClusterScratch::FirstSame(const std::vector<Candidate>& c, const Ellipse& e, const Options& options) const {
+// SameEllipse(v, w) implies centres within the reach below (eq. 17: D >= the centre distance;
+// kRelative: within cluster_relative * b), so the smallest matching index among those near e is
+// the smallest of all.
+int ClusterScratch::CellLists::FirstSame(const UniformGrid& grid, const std::vector<Candidate>& c, const Ellipse& e,
+                                         const Options& options) const {
   const double reach = options.cluster_rule == ClusterRule::kFeatureDistance ? options.cluster_distance
                                                                              : options.cluster_relative * e.b;
   const int cx0 = grid.Column(e.cx - reach), cx1 = grid.Column(e.cx + reach);
@@ -113,7 +131,7 @@ int ClusterScratch::FirstSame(const std::vector<Candidate>& c, const Ellipse& e,
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options, const CandidateCheck* check,
                       ClusterScratch* scratch) {
   ClusterScratch local;
-  ClusterScratch& grid = scratch != nullptr ? *scratch : local;
+  ClusterScratch& work = scratch != nullptr ? *scratch : local;
   auto passes = [&](const Candidate& c) { return check == nullptr || check->Passes(c); };
   const bool pick_best_fit = options.cluster_pick_best_fit && check != nullptr;
   // Best score first; equal scores ordered by the parameters, so the order is total and the
@@ -133,20 +151,27 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
   // cluster); membership is always tested against the reference, never against the rim or the
   // member chosen to represent it, so a cluster cannot drift.
   std::size_t kept = 0;
-  grid.Start(c);
+  work.Start(c);
+  auto first_same = [&](const Ellipse& e) { return work.references.FirstSame(work.grid, c, e, options); };
+  auto found_cluster = [&](const Candidate& founder) {  // founder may be c[kept] itself
+    c[kept] = founder;
+    work.references.Add(work.grid, static_cast<int>(kept), founder.ellipse);
+    c[kept].has_rim = false;
+    c[kept].rim_recessed = false;
+    c[kept].best_fit = founder.ellipse;
+    c[kept].best_fit_share = -1;  // measured when a first member is tried (most clusters have none)
+    c[kept].fit_tries = 0;
+    ++kept;
+  };
   for (std::size_t i = 0; i < c.size(); ++i) {
-    const int first = grid.FirstSame(c, c[i].ellipse, options);
+    const int first = first_same(c[i].ellipse);
     const std::size_t k = first < 0 ? kept : static_cast<std::size_t>(first);
     if (k == kept) {
-      if (!passes(c[i])) continue;
-      c[kept] = c[i];
-      grid.Add(static_cast<int>(kept), c[i].ellipse);
-      c[kept].has_rim = false;
-      c[kept].rim_recessed = false;
-      c[kept].best_fit = c[i].ellipse;
-      c[kept].best_fit_share = -1;  // measured when a first member is tried (most clusters have none)
-      c[kept].fit_tries = 0;
-      ++kept;
+      if (passes(c[i])) {
+        found_cluster(c[i]);
+      } else if (check != nullptr) {
+        work.failed.push_back(c[i]);  // a copy: a later reference may overwrite c[i]
+      }
       continue;
     }
     Candidate& ref = c[k];
@@ -178,6 +203,22 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
         ref.best_fit_share = share;
         ref.best_fit = c[i].ellipse;
       }
+    }
+  }
+  // The second chances, none for a candidate that a cluster holds or that is the same ellipse as
+  // one whose second chance failed (its refit would gather the same edges). Each failed candidate
+  // is a distinct one of c, so kept stays < c.size().
+  work.hopeless.Reset(work.grid.cells(), work.failed.size());
+  for (std::size_t j = 0; j < work.failed.size(); ++j) {
+    Candidate& f = work.failed[j];
+    if (first_same(f.ellipse) >= 0 || work.hopeless.FirstSame(work.grid, work.failed, f.ellipse, options) >= 0) {
+      continue;
+    }
+    if (!check->PassesRefitted(&f)) {
+      work.hopeless.Add(work.grid, static_cast<int>(j), f.ellipse);
+    } else if (first_same(f.ellipse) < 0) {
+      f.rescued = true;
+      found_cluster(f);
     }
   }
   for (std::size_t k = 0; k < kept; ++k) {

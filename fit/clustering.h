@@ -63,6 +63,13 @@ class CandidateCheck {
   // How tightly the edge map backs c's outline (higher is better): ranks the members of a cluster
   // under Options::cluster_pick_best_fit. May return any value <= to_beat once it cannot beat it.
   virtual double FitShare(const Candidate& c, double to_beat) const = 0;
+  // A candidate that failed Passes, given a second chance: true when its ellipse refitted to the
+  // edges along its outline passes; the refit then replaces c->ellipse. False leaves c as it was
+  // (and is all a check without a second chance answers).
+  virtual bool PassesRefitted(Candidate* c) const {
+    (void)c;
+    return false;
+  }
 
  protected:
   ~CandidateCheck() = default;
@@ -75,13 +82,24 @@ class CandidateCheck {
 struct ClusterScratch {
   static constexpr double kMinCellPx = 32;
   static constexpr double kMaxCells = 256;
+  // Candidates linked by the grid cell of their centres: per cell the last one added, per
+  // candidate the one added before it in its cell.
+  struct CellLists {
+    std::vector<int> head, next;
+    void Reset(int cells, std::size_t candidates);
+    void Add(const UniformGrid& grid, int k, const Ellipse& e);
+    // The smallest k linked here with SameEllipse(e, c[k].ellipse), or -1.
+    int FirstSame(const UniformGrid& grid, const std::vector<Candidate>& c, const Ellipse& e,
+                  const Options& options) const;
+  };
   UniformGrid grid;
-  std::vector<int> head, next;  // per cell: the last reference added; per reference: the one before
+  CellLists references;           // indices into the candidates: the cluster references
+  std::vector<Candidate> failed;  // would-be references that failed the check, best score first
+  CellLists hopeless;             // indices into `failed`: those whose second chance failed
 
+  // Room for `candidates` candidates on the finest grid, so no later frame grows a buffer.
+  void Reserve(std::size_t candidates);
   void Start(const std::vector<Candidate>& candidates);
-  void Add(int reference, const Ellipse& e);
-  // The smallest reference index k with SameEllipse(e, c[k].ellipse), or -1.
-  int FirstSame(const std::vector<Candidate>& c, const Ellipse& e, const Options& options) const;
 };
 
 // Sorts `candidates` by score (in place) and moves the cluster references to its front;
@@ -89,6 +107,10 @@ struct ClusterScratch {
 // options.cluster_pick_best_fit each cluster is represented by the member (outer and inner rims of
 // its reference aside) with the highest FitShare, keeping the reference's score; an outer rim
 // chosen for the cluster (see above) still takes precedence.
+// Then, with `check`, each candidate that would have founded a cluster but failed the check, and
+// that no cluster holds, gets a second chance (CandidateCheck::PassesRefitted), best score first:
+// the refitted ellipse founds a cluster of its own (Candidate::rescued) unless a cluster holds it.
+// A rescued cluster never takes a member or the place of one that passed as it was.
 // `scratch` (optional) keeps the buffers between frames.
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options,
                       const CandidateCheck* check = nullptr, ClusterScratch* scratch = nullptr);

@@ -56,13 +56,24 @@ double CentreRise(const Ellipse& e, const Ellipse& ref) {
   return (e.cx - ref.cx) * ux + (e.cy - ref.cy) * uy;
 }
 
+namespace {
+bool StaysClose(const Ellipse& refit, const Ellipse& e) { return FeatureDistance(refit, e) < 0.2 * e.b + 1; }
+}  // namespace
+
+bool RefitAlongOutline(const EdgeMapView& in, EdgeRefitScratch* scratch, Ellipse* e) {
+  Ellipse refit = *e;
+  if (!FitToEdgesNear(in, kAlongOutlineDistance, scratch, &refit) || !StaysClose(refit, *e)) return false;
+  *e = refit;
+  return true;
+}
+
 bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, double* share) {
   const double before = share != nullptr && *share >= 0 ? *share : FineEdgeCoverage(in, *e);
   if (share != nullptr) *share = before;
   if (before < kEdgeRefitMinShare) return false;
   Ellipse refit = *e;
   if (!FitToEdgesNear(in, kEdgeRefitDistance, scratch, &refit)) return false;
-  if (!(FeatureDistance(refit, *e) < 0.2 * e->b + 1)) return false;
+  if (!StaysClose(refit, *e)) return false;
   // Stops once it cannot reach `before` (returning less); one that reaches it ran to the end.
   const double after = FineEdgeCoverage(in, refit, before - 1.0 / 64);
   if (after < before) return false;

@@ -104,6 +104,8 @@ Status ValidateOptions(const Options& o) {
     return Invalid("max_nested_striped_share must be in [0, 1] (1: off)");
   if (!Finite(o.pair_min_edge_coverage) || o.pair_min_edge_coverage < 0 || o.pair_min_edge_coverage > 1)
     return Invalid("pair_min_edge_coverage must be in [0, 1]");
+  if (!Finite(o.rescue_min_coverage) || o.rescue_min_coverage < 0)
+    return Invalid("rescue_min_coverage must be a finite number >= 0 (> 1 turns the second chance off)");
   if (!Finite(o.min_axis_ratio) || o.min_axis_ratio < 0 || o.min_axis_ratio > 1)
     return Invalid("min_axis_ratio must be in [0, 1]");
   if (!Finite(o.rim_min_coverage) || o.rim_min_coverage < 0)
@@ -152,32 +154,53 @@ Status ValidateImage(const ImageView& image, const Options& options) {
 
 // Options::min_edge_coverage (pair_min_edge_coverage for two-arc candidates, at least
 // kCentresByFitMinEdgeCoverage for a triplet found by its pairs' fits) as the clustering's check,
-// and FineEdgeCoverage as its ranking of a cluster's members.
+// FineEdgeCoverage as its ranking of a cluster's members, and Options::rescue_min_coverage as its
+// second chance.
 class CoverageCheck final : public CandidateCheck {
  public:
-  CoverageCheck(const EdgeMapView& view, const Options& options) : view_(view), options_(options) {}
+  CoverageCheck(const EdgeMapView& view, const Options& options, EdgeRefitScratch* scratch)
+      : view_(view), options_(options), scratch_(scratch) {}
   bool Passes(const Candidate& c) const override {
-    double min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
-    if (min_share <= 0) return true;
-    if (c.centres_by_fit) min_share = std::max(min_share, kCentresByFitMinEdgeCoverage);
-    // Options::frame_cut_min_inside: an outline that runs out of the frame is held to the share
-    // over its part inside.
-    if (options_.frame_cut_min_inside < 1) {
-      const double inside = InFrameShare(view_, c.ellipse);
-      if (inside < 1) {
-        if (inside < options_.frame_cut_min_inside) return false;
-        min_share *= inside;
-      }
-    }
-    return EdgeCoverage(view_, c.ellipse, min_share) >= min_share;
+    double min_share;
+    return MinShare(c.ellipse, c, &min_share) && EdgeCoverage(view_, c.ellipse, min_share) >= min_share;
   }
   double FitShare(const Candidate& c, double to_beat) const override {
     return FineEdgeCoverage(view_, c.ellipse, to_beat);
   }
+  // Only for a candidate whose edges back at least rescue_min_coverage of its outline as fitted.
+  bool PassesRefitted(Candidate* c) const override {
+    const double floor = options_.rescue_min_coverage;
+    if (!(floor <= 1) || EdgeCoverage(view_, c->ellipse, floor) < floor) return false;
+    Ellipse refit = c->ellipse;
+    if (!RefitAlongOutline(view_, scratch_, &refit) || refit.b < options_.min_axis_ratio * refit.a) return false;
+    double min_share;
+    if (!MinShare(refit, *c, &min_share) || EdgeCoverage(view_, refit, min_share) < min_share) return false;
+    c->ellipse = refit;
+    return true;
+  }
 
  private:
+  // The share of e's outline the edges must back for candidate c (e: c's ellipse or its refit);
+  // false when e lies too far out of the frame to be checked at all.
+  bool MinShare(const Ellipse& e, const Candidate& c, double* min_share) const {
+    *min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
+    if (*min_share <= 0) return true;
+    if (c.centres_by_fit) *min_share = std::max(*min_share, kCentresByFitMinEdgeCoverage);
+    // Options::frame_cut_min_inside: an outline that runs out of the frame is held to the share
+    // over its part inside.
+    if (options_.frame_cut_min_inside < 1) {
+      const double inside = InFrameShare(view_, e);
+      if (inside < 1) {
+        if (inside < options_.frame_cut_min_inside) return false;
+        *min_share *= inside;
+      }
+    }
+    return true;
+  }
+
   EdgeMapView view_;
   const Options& options_;
+  EdgeRefitScratch* scratch_;
 };
 
 // The first frame of a size sizes two kinds of buffer. Per-pixel planes hold what they must
@@ -221,8 +244,7 @@ void Detector::Impl::Resize(int w, int h) {
   arc_scratch.stats.reserve(arc_count);
   arcs.reserve(arc_count);
   candidates.reserve(ReserveFor(options.max_candidates));
-  cluster_scratch.head.reserve(static_cast<std::size_t>((ClusterScratch::kMaxCells + 1) * (ClusterScratch::kMaxCells + 1)));
-  cluster_scratch.next.reserve(ReserveFor(options.max_candidates));
+  cluster_scratch.Reserve(ReserveFor(options.max_candidates));
   by_coverage.reserve(ReserveFor(options.max_candidates));
   minor_axes.reserve(2 * ReserveFor(options.max_candidates));
   crowd_result.ellipses.reserve(ReserveFor(options.max_candidates));
@@ -341,7 +363,7 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   // Clustering (sec. II-D-3) of the candidates with edge coverage (our addition,
   // fit/edge_coverage.h), then the outer rims, the exclusive edge support, the stripe test and
   // the refit to the edges (fit/edge_refit.h).
-  const CoverageCheck check(EdgeView(), options);
+  const CoverageCheck check(EdgeView(), options, &refit_scratch);
   int kept = ClusterCandidates(&candidates, options, &check, &cluster_scratch);
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);

@@ -148,8 +148,11 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     // top inside it, which replaces it (unless detected already); the outer-rim search below then
     // runs around the top (a can's lid found this way still gets its rim). Not when another kept
     // ellipse lies inside (a ring's or a cup's inner rim, whose near arc with the outer one's far
-    // arc makes such a flatter ellipse).
-    if (options.top_over_side) {
+    // arc makes such a flatter ellipse), nor around a rescued ellipse (Candidate::rescued), already
+    // fitted to the edges along its outline. Measured with and without that exception
+    // (docs/hard-tabletop-rules.md, "Second chance"): the same on every generated set; with it,
+    // prasad_subset at 2x keeps a calculator key that a flatter fit through the key's face took.
+    if (options.top_over_side && !c.rescued) {
       const bool found = FindTopOverSide(in, c.ellipse, &refit_scratch, &rim, &scanned);
       budget -= scanned;
       bool detected = false;
@@ -182,8 +185,8 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
 
 // Options::min_exclusive_coverage. Only ellipses whose outlines come near another kept one (boxes
 // within kClaimReach px) can share edges; those, in order of edge coverage (best first; ties: the
-// clustering's order), claim their edges, and one left with too little coverage by unclaimed edges
-// is dropped. Keeps the survivors' order; returns how many there are. Work per competing ellipse:
+// clustering's order; the rescued ones, Candidate::rescued, after all the others), claim their
+// edges, and one left with too little coverage by unclaimed edges is dropped. Keeps the survivors' order; returns how many there are. Work per competing ellipse:
 // 2 coverage passes (at most 256 samples x 9 pixels) and a scan of the 9 px band along its outline.
 int Detector::Impl::KeepExclusivelySupported(int kept) {
   if (!(options.min_exclusive_coverage > 0) || kept < 2) return kept;
@@ -195,10 +198,12 @@ int Detector::Impl::KeepExclusivelySupported(int kept) {
   for (int i = 0; i < kept; ++i) {
     bool near_another = false;
     for (int j = 0; j < kept && !near_another; ++j) near_another = j != i && boxes[i].Intersects(boxes[j]);
-    if (near_another) by_coverage.push_back({-EdgeCoverage(in, candidates[i].ellipse), i});
+    if (!near_another) continue;
+    const double coverage = EdgeCoverage(in, candidates[i].ellipse);  // in [0, 1]
+    by_coverage.push_back({candidates[i].rescued ? 2 - coverage : -coverage, i});
   }
   std::sort(by_coverage.begin(), by_coverage.end());
-  for (const auto& [negative_coverage, i] : by_coverage) {
+  for (const auto& [rank, i] : by_coverage) {
     const Ellipse& e = candidates[i].ellipse;
     if (EdgeCoverage(in, e, options.min_exclusive_coverage, &claims) < options.min_exclusive_coverage) {
       dropped[i] = 1;

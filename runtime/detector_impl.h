@@ -92,7 +92,7 @@ struct Detector::Impl {
   ClusterScratch cluster_scratch;
   EdgeClaims claims;  // Options::min_exclusive_coverage; scratch of RefitToEdges
   EdgeRefitScratch refit_scratch;
-  std::vector<std::pair<double, int>> by_coverage;
+  std::vector<std::pair<double, int>> by_coverage;  // (rank, kept index): KeepExclusivelySupported
   std::vector<Box> boxes;  // per kept candidate: CompleteOuterRims' rim reach, then the claim reach
   std::vector<std::uint8_t> dropped;
   std::vector<std::uint8_t> claimed_near;  // coarse levels: which kept ellipses claimed their edges

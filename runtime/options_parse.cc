@@ -65,6 +65,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"max_striped_share", &Options::max_striped_share},
       {"max_nested_striped_share", &Options::max_nested_striped_share},
       {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
+      {"rescue_min_coverage", &Options::rescue_min_coverage},
       {"pair_reach", &Options::pair_reach},
       {"crowd_max_minor_axis", &Options::crowd_max_minor_axis},
       {"min_axis_ratio", &Options::min_axis_ratio},

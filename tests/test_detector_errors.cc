@@ -120,6 +120,8 @@ TEST(DetectorErrors, EachInvalidOptionIsNamed) {
       {"max_striped_share", [&](Options* o) { o->max_striped_share = nan; }},
       {"max_nested_striped_share", [](Options* o) { o->max_nested_striped_share = 1.5; }},
       {"pair_min_edge_coverage", [&](Options* o) { o->pair_min_edge_coverage = nan; }},
+      {"rescue_min_coverage", [](Options* o) { o->rescue_min_coverage = -0.1; }},
+      {"rescue_min_coverage", [&](Options* o) { o->rescue_min_coverage = nan; }},
       {"min_axis_ratio", [](Options* o) { o->min_axis_ratio = -0.1; }},
       {"min_axis_ratio", [](Options* o) { o->min_axis_ratio = 2; }},
       {"rim_min_coverage", [](Options* o) { o->rim_min_coverage = -0.5; }},

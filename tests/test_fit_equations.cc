@@ -347,6 +347,48 @@ TEST(FitClustering, CheckLeavesFailingCandidatesOut) {
   EXPECT_DOUBLE_EQ(top[0].ellipse.a, 40);
 }
 
+// The second chance (CandidateCheck::PassesRefitted, Options::rescue_min_coverage): after every
+// candidate that passed as it was has founded or joined its cluster, each failed would-be founder
+// that no cluster holds is refitted; a refit that passes founds a cluster of its own, behind the
+// others whatever its score. One that a cluster holds is never refitted, so it cannot take the
+// place of the candidate that passed there.
+TEST(FitClustering, ASecondChanceFoundsItsClusterAfterTheOthers) {
+  struct RefitMovesRight final : CandidateCheck {
+    mutable std::vector<double> refitted;  // scores of the candidates given a second chance
+    bool Passes(const Candidate& c) const override { return c.ellipse.score == 1.5; }
+    double FitShare(const Candidate&, double) const override { return 0; }
+    bool PassesRefitted(Candidate* c) const override {
+      refitted.push_back(c->ellipse.score);
+      if (c->ellipse.score == 1.4) return false;  // its refit fails too
+      c->ellipse.cx += 2;
+      return true;
+    }
+  };
+  Options o;
+  std::vector<Candidate> c(4);
+  c[0].ellipse = Make(300, 200, 40, 30, 0.0, 1.9);  // fails, alone: rescued
+  c[1].ellipse = Make(100, 100, 40, 30, 0.0, 1.7);  // fails, the same ellipse as the next
+  c[2].ellipse = Make(101, 100, 40, 30, 0.0, 1.5);  // passes
+  c[3].ellipse = Make(500, 400, 40, 30, 0.0, 1.4);  // fails, and so does its refit
+  RefitMovesRight check;
+  ClusterScratch scratch;
+  for (int run = 0; run < 2; ++run) {  // the scratch's list of failed candidates starts empty each time
+    std::vector<Candidate> d = c;
+    check.refitted.clear();
+    ASSERT_EQ(ClusterCandidates(&d, o, &check, &scratch), 2);
+    EXPECT_DOUBLE_EQ(d[0].ellipse.score, 1.5);
+    EXPECT_FALSE(d[0].rescued);
+    EXPECT_DOUBLE_EQ(d[1].ellipse.score, 1.9);
+    EXPECT_DOUBLE_EQ(d[1].ellipse.cx, 302);
+    EXPECT_TRUE(d[1].rescued);
+    EXPECT_EQ(check.refitted, (std::vector<double>{1.9, 1.4}));
+  }
+  // Without a check nothing fails, and nothing is rescued.
+  std::vector<Candidate> d = c;
+  ASSERT_EQ(ClusterCandidates(&d, o), 3);
+  for (int k = 0; k < 3; ++k) EXPECT_FALSE(d[k].rescued);
+}
+
 // Options::cluster_pick_best_fit: the member with the best FitShare represents its cluster with
 // the reference's score; rims of the reference are never that member, and only the best-scoring
 // members are tried (fit/clustering.cc kFitTries, 6).
