@@ -133,6 +133,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
   ClusterScratch local;
   ClusterScratch& work = scratch != nullptr ? *scratch : local;
   auto passes = [&](const Candidate& c) { return check == nullptr || check->Passes(c); };
+  const bool second_chances = check != nullptr && options.rescue_min_coverage <= 1;
   const bool pick_best_fit = options.cluster_pick_best_fit && check != nullptr;
   // Best score first; equal scores ordered by the parameters, so the order is total and the
   // result never depends on the sort algorithm.
@@ -169,7 +170,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
     if (k == kept) {
       if (passes(c[i])) {
         found_cluster(c[i]);
-      } else if (check != nullptr) {
+      } else if (second_chances) {
         work.failed.push_back(c[i]);  // a copy: a later reference may overwrite c[i]
       }
       continue;

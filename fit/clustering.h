@@ -107,10 +107,11 @@ struct ClusterScratch {
 // options.cluster_pick_best_fit each cluster is represented by the member (outer and inner rims of
 // its reference aside) with the highest FitShare, keeping the reference's score; an outer rim
 // chosen for the cluster (see above) still takes precedence.
-// Then, with `check`, each candidate that would have founded a cluster but failed the check, and
-// that no cluster holds, gets a second chance (CandidateCheck::PassesRefitted), best score first:
-// the refitted ellipse founds a cluster of its own (Candidate::rescued) unless a cluster holds it.
-// A rescued cluster never takes a member or the place of one that passed as it was.
+// Then, with `check` and options.rescue_min_coverage <= 1, each candidate that would have founded
+// a cluster but failed the check, and that no cluster holds, gets a second chance
+// (CandidateCheck::PassesRefitted), best score first: the refitted ellipse founds a cluster of
+// its own (Candidate::rescued) unless a cluster holds it. A rescued cluster never takes a member
+// or the place of one that passed as it was.
 // `scratch` (optional) keeps the buffers between frames.
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options,
                       const CandidateCheck* check = nullptr, ClusterScratch* scratch = nullptr);
