@@ -108,26 +108,6 @@ void ClusterScratch::CellLists::Add(const UniformGrid& grid, int k, const Ellips
   head[i] = k;
 }
 
-// SameEllipse(v, w) implies centres within the reach below (eq. 17: D >= the centre distance;
-// kRelative: within cluster_relative * b), so the smallest matching index among those near e is
-// the smallest of all.
-int ClusterScratch::CellLists::FirstSame(const UniformGrid& grid, const std::vector<Candidate>& c, const Ellipse& e,
-                                         const Options& options) const {
-  const double reach = options.cluster_rule == ClusterRule::kFeatureDistance ? options.cluster_distance
-                                                                             : options.cluster_relative * e.b;
-  const int cx0 = grid.Column(e.cx - reach), cx1 = grid.Column(e.cx + reach);
-  const int cy0 = grid.Row(e.cy - reach), cy1 = grid.Row(e.cy + reach);
-  int first = -1;
-  for (int y = cy0; y <= cy1; ++y) {
-    for (int x = cx0; x <= cx1; ++x) {
-      for (int k = head[static_cast<std::size_t>(y) * grid.cols + x]; k >= 0; k = next[k]) {
-        if ((first < 0 || k < first) && SameEllipse(e, c[k].ellipse, options)) first = k;
-      }
-    }
-  }
-  return first;
-}
-
 int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options, const CandidateCheck* check,
                       ClusterScratch* scratch) {
   ClusterScratch local;
@@ -171,7 +151,7 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
       if (passes(c[i])) {
         found_cluster(c[i]);
       } else if (second_chances) {
-        work.failed.push_back(c[i]);  // a copy: a later reference may overwrite c[i]
+        work.failed.push_back({c[i].ellipse, {c[i].arcs[0], c[i].arcs[1], c[i].arcs[2]}, c[i].centres_by_fit});
       }
       continue;
     }
@@ -211,12 +191,15 @@ int ClusterCandidates(std::vector<Candidate>* candidates, const Options& options
   // is a distinct one of c, so kept stays < c.size().
   work.hopeless.Reset(work.grid.cells(), work.failed.size());
   for (std::size_t j = 0; j < work.failed.size(); ++j) {
-    Candidate& f = work.failed[j];
-    if (first_same(f.ellipse) >= 0 || work.hopeless.FirstSame(work.grid, work.failed, f.ellipse, options) >= 0) {
-      continue;
-    }
+    const ClusterScratch::Failed& failed = work.failed[j];
+    const bool held = first_same(failed.ellipse) >= 0;
+    if (held || work.hopeless.FirstSame(work.grid, work.failed, failed.ellipse, options) >= 0) continue;
+    Candidate f;
+    f.ellipse = failed.ellipse;
+    std::copy(failed.arcs, failed.arcs + 3, f.arcs);
+    f.centres_by_fit = failed.centres_by_fit;
     if (!check->PassesRefitted(&f)) {
-      work.hopeless.Add(work.grid, static_cast<int>(j), f.ellipse);
+      work.hopeless.Add(work.grid, static_cast<int>(j), failed.ellipse);
     } else if (first_same(f.ellipse) < 0) {
       f.rescued = true;
       found_cluster(f);

@@ -88,14 +88,37 @@ struct ClusterScratch {
     std::vector<int> head, next;
     void Reset(int cells, std::size_t candidates);
     void Add(const UniformGrid& grid, int k, const Ellipse& e);
-    // The smallest k linked here with SameEllipse(e, c[k].ellipse), or -1.
-    int FirstSame(const UniformGrid& grid, const std::vector<Candidate>& c, const Ellipse& e,
-                  const Options& options) const;
+    // The smallest k linked here with SameEllipse(e, items[k].ellipse), or -1. SameEllipse(v, w)
+    // implies centres within `reach` (eq. 17: D >= the centre distance; kRelative: within
+    // cluster_relative * b), so the smallest match among the cells near e is the smallest of all.
+    template <typename WithEllipse>
+    int FirstSame(const UniformGrid& grid, const std::vector<WithEllipse>& items, const Ellipse& e,
+                  const Options& options) const {
+      const double reach = options.cluster_rule == ClusterRule::kFeatureDistance ? options.cluster_distance
+                                                                                 : options.cluster_relative * e.b;
+      const int cx0 = grid.Column(e.cx - reach), cx1 = grid.Column(e.cx + reach);
+      const int cy0 = grid.Row(e.cy - reach), cy1 = grid.Row(e.cy + reach);
+      int first = -1;
+      for (int y = cy0; y <= cy1; ++y) {
+        for (int x = cx0; x <= cx1; ++x) {
+          for (int k = head[static_cast<std::size_t>(y) * grid.cols + x]; k >= 0; k = next[k]) {
+            if ((first < 0 || k < first) && SameEllipse(e, items[k].ellipse, options)) first = k;
+          }
+        }
+      }
+      return first;
+    }
+  };
+  // What a second chance needs of a candidate that failed (a Candidate is ~3x larger).
+  struct Failed {
+    Ellipse ellipse;
+    int arcs[3];
+    bool centres_by_fit;
   };
   UniformGrid grid;
-  CellLists references;           // indices into the candidates: the cluster references
-  std::vector<Candidate> failed;  // would-be references that failed the check, best score first
-  CellLists hopeless;             // indices into `failed`: those whose second chance failed
+  CellLists references;         // indices into the candidates: the cluster references
+  std::vector<Failed> failed;   // would-be references that failed the check, best score first
+  CellLists hopeless;           // indices into `failed`: those whose second chance failed
 
   // Room for `candidates` candidates on the finest grid, so no later frame grows a buffer.
   void Reserve(std::size_t candidates);
