@@ -37,9 +37,9 @@ class Reader {
 // range enumerators too, backend included).
 void EditOption(int field, int v, Options* o);
 
-// The fields EditOption leaves alone (field % 14): the later additions to the validation
-// (pair candidates, edge coverage, exclusive support, b/a floor, outer rims, refits) and the
-// crowd pass. Out-of-range and non-finite values too.
+// The fields EditOption leaves alone (field % 15): the later additions to the validation
+// (pair candidates, edge coverage, exclusive support, b/a floor, outer rims, refits, the second
+// chance) and the crowd pass. Out-of-range and non-finite values too.
 void EditOptionMore(int field, int v, Options* o);
 
 // The view a harness hands detect(): a null data pointer when asked (null_data); `never_read` (any

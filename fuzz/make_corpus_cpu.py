@@ -90,7 +90,7 @@ def seeds():
         frame(70, 2, [shape(64, 48, 20, 22, 11, 8, 30, 210), shape(64, 48, 46, 26, 9, 9, 0, 10, ring=3)],
               grid(64, 48, 2, 3, 40, 8, 9, 30, 12, 0x0F, 240)) + noise_bytes(19, 8)
     yield 'raw_noise_64x48', header(0, 64, 48, pad=3) + noise_bytes(300, 6)
-    # Invalid: a NaN in pair_min_edge_coverage (EditOptionMore 9); a stride below the width; null data.
+    # Invalid: pair_reach 0 (EditOptionMore 9); a stride below the width; null data.
     yield 'invalid_option_nan', header(STRUCTURED, 32, 32, edits=((0xE9, 0),)) + frame(100, 0, [])
     yield 'invalid_small_stride', header(SMALL_STRIDE, 40, 30) + noise_bytes(16, 7)
     yield 'invalid_null_data', header(STRUCTURED | NULL_DATA, 40, 30) + frame(100, 0, [])
