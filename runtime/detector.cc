@@ -15,6 +15,7 @@
 #include "kernels/canny_thresholds.h"
 #include "kernels/noise_sigma.h"
 #include "runtime/backend.h"
+#include "runtime/coverage_check.h"
 #include "runtime/detector_impl.h"
 
 namespace ellipsekit {
@@ -151,57 +152,6 @@ Status ValidateImage(const ImageView& image, const Options& options) {
                    " pixels, more than max_image_pixels = " + std::to_string(options.max_image_pixels));
   return Status::Ok();
 }
-
-// Options::min_edge_coverage (pair_min_edge_coverage for two-arc candidates, at least
-// kCentresByFitMinEdgeCoverage for a triplet found by its pairs' fits) as the clustering's check,
-// FineEdgeCoverage as its ranking of a cluster's members, and Options::rescue_min_coverage as its
-// second chance.
-class CoverageCheck final : public CandidateCheck {
- public:
-  CoverageCheck(const EdgeMapView& view, const Options& options, EdgeRefitScratch* scratch)
-      : view_(view), options_(options), scratch_(scratch) {}
-  bool Passes(const Candidate& c) const override {
-    double min_share;
-    return MinShare(c.ellipse, c, &min_share) && EdgeCoverage(view_, c.ellipse, min_share) >= min_share;
-  }
-  double FitShare(const Candidate& c, double to_beat) const override {
-    return FineEdgeCoverage(view_, c.ellipse, to_beat);
-  }
-  // Only for a candidate whose edges back at least rescue_min_coverage of its outline as fitted.
-  bool PassesRefitted(Candidate* c) const override {
-    const double floor = options_.rescue_min_coverage;
-    if (!(floor <= 1) || EdgeCoverage(view_, c->ellipse, floor) < floor) return false;
-    Ellipse refit = c->ellipse;
-    if (!RefitAlongOutline(view_, scratch_, &refit) || refit.b < options_.min_axis_ratio * refit.a) return false;
-    double min_share;
-    if (!MinShare(refit, *c, &min_share) || EdgeCoverage(view_, refit, min_share) < min_share) return false;
-    c->ellipse = refit;
-    return true;
-  }
-
- private:
-  // The share of e's outline the edges must back for candidate c (e: c's ellipse or its refit);
-  // false when e lies too far out of the frame to be checked at all.
-  bool MinShare(const Ellipse& e, const Candidate& c, double* min_share) const {
-    *min_share = c.FromPair() ? options_.pair_min_edge_coverage : options_.min_edge_coverage;
-    if (*min_share <= 0) return true;
-    if (c.centres_by_fit) *min_share = std::max(*min_share, kCentresByFitMinEdgeCoverage);
-    // Options::frame_cut_min_inside: an outline that runs out of the frame is held to the share
-    // over its part inside.
-    if (options_.frame_cut_min_inside < 1) {
-      const double inside = InFrameShare(view_, e);
-      if (inside < 1) {
-        if (inside < options_.frame_cut_min_inside) return false;
-        *min_share *= inside;
-      }
-    }
-    return true;
-  }
-
-  EdgeMapView view_;
-  const Options& options_;
-  EdgeRefitScratch* scratch_;
-};
 
 // The first frame of a size sizes two kinds of buffer. Per-pixel planes hold what they must
 // (15 bytes per pixel: three 1-byte maps, three 2-byte gradient planes, the hysteresis stack of
@@ -365,6 +315,7 @@ void Detector::Impl::BackEndAt(DetectionResult* r) {
   // the refit to the edges (fit/edge_refit.h).
   const CoverageCheck check(EdgeView(), options, &refit_scratch);
   int kept = ClusterCandidates(&candidates, options, &check, &cluster_scratch);
+  if (check.BudgetSpent()) gs.caps_hit |= kCapSecondChance;
   CompleteOuterRims(kept, &gs);
   kept = KeepExclusivelySupported(kept);
   kept = DropStriped(kept);
@@ -460,6 +411,7 @@ const char* CapName(CapFlags cap) {
     case kCapCandidates: return "max_candidates";
     case kCapMeanShift: return "max_mean_shift_iterations";
     case kCapRimSearch: return "rim_search_budget";
+    case kCapSecondChance: return "second_chance_budget";
     default: return "";
   }
 }

@@ -41,11 +41,14 @@ enum CapFlags : unsigned {
   kCapCandidates = 1u << 3,
   kCapMeanShift = 1u << 4,
   kCapRimSearch = 1u << 5,  // the outer-rim search scanned 2 frames' worth of pixels and stopped
+  kCapSecondChance = 1u << 6,  // the second chances (Options::rescue_min_coverage) did the same
 };
-inline constexpr CapFlags kAllCaps[] = {kCapArcs, kCapPairs, kCapTriplets, kCapCandidates, kCapMeanShift, kCapRimSearch};
+inline constexpr CapFlags kAllCaps[] = {kCapArcs,      kCapPairs,     kCapTriplets,    kCapCandidates,
+                                        kCapMeanShift, kCapRimSearch, kCapSecondChance};
 
 // The name of a cap: the Options field that sets it ("max_arcs", ..., "max_mean_shift_iterations"),
-// or "rim_search_budget" for kCapRimSearch; "" for anything else.
+// "rim_search_budget" for kCapRimSearch, "second_chance_budget" for kCapSecondChance; "" for
+// anything else.
 const char* CapName(CapFlags cap);
 
 struct DetectionResult {
