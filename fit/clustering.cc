@@ -75,9 +75,6 @@ bool IsLedgeBelow(const Ellipse& ledge, const Ellipse& top) {
   return drop >= kLedgeMinDrop * top.b && ledge.a + ledge.b >= kLedgeMinScale * (top.a + top.b);
 }
 
-// Cluster references by the grid cell of their centres. SameEllipse(v, w) implies centres within
-// FirstSame's reach (eq. 17: D >= the centre distance; kRelative: within cluster_relative * b), so the
-// first matching reference in kept order is the smallest matching index among those near v.
 void ClusterScratch::Reserve(std::size_t candidates) {
   const auto cells = static_cast<std::size_t>((kMaxCells + 1) * (kMaxCells + 1));
   for (CellLists* lists : {&references, &hopeless}) {

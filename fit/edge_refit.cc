@@ -60,9 +60,11 @@ namespace {
 bool StaysClose(const Ellipse& refit, const Ellipse& e) { return FeatureDistance(refit, e) < 0.2 * e.b + 1; }
 }  // namespace
 
-bool RefitAlongOutline(const EdgeMapView& in, EdgeRefitScratch* scratch, Ellipse* e) {
+bool RefitAlongOutline(const EdgeMapView& in, EdgeRefitScratch* scratch, Ellipse* e, long* scanned_pixels) {
   Ellipse refit = *e;
-  if (!FitToEdgesNear(in, kAlongOutlineDistance, scratch, &refit) || !StaysClose(refit, *e)) return false;
+  if (!FitToEdgesNearRounds(in, kAlongOutlineDistance, 1, scratch, &refit, scanned_pixels) || !StaysClose(refit, *e)) {
+    return false;
+  }
   *e = refit;
   return true;
 }

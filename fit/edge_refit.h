@@ -47,9 +47,10 @@ bool FitToEdgesNear(const EdgeMapView& in, double distance, EdgeRefitScratch* sc
 // to two arcs of one quadrant pair can be off by a few px on the far side of the outline. Measured
 // (correct / detected on hard tabletop seed 1, `ellipsekit eval`), one round at 2 / 2.5 px, two
 // rounds at 1.5 px (the second around the first's refit): 715 / 827, 719 / 833, 717 / 828; one
-// round at 2.5 px costs ~0.7x two at 1.5 (the band's area).
+// round at 2.5 px costs ~0.7x two at 1.5 (the band's area). *scanned_pixels grows as in
+// FitToEdgesNearRounds (below), also when the refit fails.
 inline constexpr double kAlongOutlineDistance = 2.5;  // px
-bool RefitAlongOutline(const EdgeMapView& in, EdgeRefitScratch* scratch, Ellipse* e);
+bool RefitAlongOutline(const EdgeMapView& in, EdgeRefitScratch* scratch, Ellipse* e, long* scanned_pixels);
 
 // FitToEdgesNear `rounds` times (the searches around a detection: fit/recessed_rim.h,
 // fit/top_over_side.h); false at the first round that fails. *scanned_pixels grows by a bound on

@@ -1,7 +1,6 @@
 #include "runtime/coverage_check.h"
 
 #include <algorithm>
-#include <numbers>
 
 #include "fit/edge_coverage.h"
 #include "fit/grouping.h"
@@ -23,12 +22,11 @@ double CoverageCheck::FitShare(const Candidate& c, double to_beat) const {
 bool CoverageCheck::PassesRefitted(Candidate* c) const {
   const double floor = options_.rescue_min_coverage;
   if (!(floor <= 1) || budget_ <= 0 || EdgeCoverage(view_, c->ellipse, floor) < floor) return false;
-  // The refit's band: the outline's length (at most 2 pi max(a, b)) times its width, never more
-  // than the frame.
-  const double band = 2 * std::numbers::pi * std::max(c->ellipse.a, c->ellipse.b) * (2 * kAlongOutlineDistance + 2);
-  budget_ -= static_cast<long>(std::min(band, static_cast<double>(view_.width) * view_.height));
   Ellipse refit = c->ellipse;
-  if (!RefitAlongOutline(view_, scratch_, &refit) || refit.b < options_.min_axis_ratio * refit.a) return false;
+  long scanned = 0;
+  const bool refitted = RefitAlongOutline(view_, scratch_, &refit, &scanned);
+  budget_ -= scanned;  // charged whether or not the refit holds
+  if (!refitted || refit.b < options_.min_axis_ratio * refit.a) return false;
   double min_share;
   if (!MinShare(refit, *c, &min_share) || EdgeCoverage(view_, refit, min_share) < min_share) return false;
   c->ellipse = refit;

@@ -186,8 +186,9 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
 // Options::min_exclusive_coverage. Only ellipses whose outlines come near another kept one (boxes
 // within kClaimReach px) can share edges; those, in order of edge coverage (best first; ties: the
 // clustering's order; the rescued ones, Candidate::rescued, after all the others), claim their
-// edges, and one left with too little coverage by unclaimed edges is dropped. Keeps the survivors' order; returns how many there are. Work per competing ellipse:
-// 2 coverage passes (at most 256 samples x 9 pixels) and a scan of the 9 px band along its outline.
+// edges, and one left with too little coverage by unclaimed edges is dropped. Keeps the survivors'
+// order; returns how many there are. Work per competing ellipse: 2 coverage passes (at most 256
+// samples x 9 pixels) and a scan of the 9 px band along its outline.
 int Detector::Impl::KeepExclusivelySupported(int kept) {
   if (!(options.min_exclusive_coverage > 0) || kept < 2) return kept;
   const EdgeMapView in = EdgeView();
