@@ -71,7 +71,6 @@ void EditOptionMore(int field, int v, Options* o) {
   const double inf = std::numeric_limits<double>::infinity();
   const double p = v / 1000.0;  // the share fields live in [0, 1]; v spans [-32.8, 32.8]
   switch (field % 15) {
-    case 13: o->rescue_min_coverage = p; break;  // > 1 turns the second chance off
     case 11: o->crowd_min_curve_points = v; o->crowd_min_short_curves = v >> 4; break;  // < 3 refused
     case 12: o->crowd_min_small_found = v; o->crowd_min_similar = v >> 4; o->crowd_max_minor_axis = v / 16.0; break;
     case 9: o->pair_reach = v / 64.0; break;  // <= 0 is refused; large values reach every arc
@@ -89,6 +88,7 @@ void EditOptionMore(int field, int v, Options* o) {
     case 6: o->refined_circumference_ratio = p; break;
     case 7: o->cluster_rule = static_cast<ClusterRule>(v & 3); break;
     case 8: o->inlier_rule = static_cast<InlierRule>(v & 3); break;
+    case 13: o->rescue_min_coverage = p; break;  // > 1 turns the second chance off
     default: {  // a non-finite value into one of the double fields above
       double* fields[] = {&o->pair_min_edge_coverage, &o->min_edge_coverage, &o->min_exclusive_coverage,
                           &o->min_axis_ratio, &o->rim_min_coverage, &o->refined_circumference_ratio,
