@@ -41,28 +41,15 @@ bool PassesObbRule(const Curves& curves, int begin, int end, const Options& opti
 }
 
 void FilterCurvesByObb(const Options& options, Curves* curves, std::vector<std::int64_t>* hull) {
-  Curves& c = *curves;
-  int kept = 0;
-  std::int32_t to = 0;  // where the next kept curve's points go (<= where they are)
-  for (int i = 0; i < c.size(); ++i) {
-    const std::int32_t b = c.offset[i], e = c.offset[i + 1];
-    if (!PassesObbRule(c, b, e, options, hull)) continue;
-    if (to != b) {
-      std::copy(c.x.begin() + b, c.x.begin() + e, c.x.begin() + to);
-      std::copy(c.y.begin() + b, c.y.begin() + e, c.y.begin() + to);
-      std::copy(c.gx.begin() + b, c.gx.begin() + e, c.gx.begin() + to);
-      std::copy(c.gy.begin() + b, c.gy.begin() + e, c.gy.begin() + to);
-    }
-    c.sign_class[kept] = c.sign_class[i];
-    to += e - b;
-    c.offset[++kept] = to;  // offset[i + 1] was read above, before this write can reach it
-  }
-  c.x.resize(static_cast<std::size_t>(to));
-  c.y.resize(static_cast<std::size_t>(to));
-  c.gx.resize(static_cast<std::size_t>(to));
-  c.gy.resize(static_cast<std::size_t>(to));
-  c.sign_class.resize(static_cast<std::size_t>(kept));
-  c.offset.resize(static_cast<std::size_t>(kept) + 1);
+  KeepCurves(curves, [&](const Curves& c, int begin, int end) { return PassesObbRule(c, begin, end, options, hull); });
+}
+
+void DropCurvesWiderThan(double max_extent, Curves* curves) {
+  KeepCurves(curves, [&](const Curves& c, int begin, int end) {
+    const auto [x0, x1] = std::minmax_element(c.x.begin() + begin, c.x.begin() + end);
+    const auto [y0, y1] = std::minmax_element(c.y.begin() + begin, c.y.begin() + end);
+    return *x1 - *x0 <= max_extent && *y1 - *y0 <= max_extent;
+  });
 }
 
 }  // namespace ellipsekit

@@ -72,7 +72,12 @@ void EditOptionMore(int field, int v, Options* o) {
   const double p = v / 1000.0;  // the share fields live in [0, 1]; v spans [-32.8, 32.8]
   switch (field % 15) {
     case 11: o->crowd_min_curve_points = v; o->crowd_min_short_curves = v >> 4; break;  // < 3 refused
-    case 12: o->crowd_min_small_found = v; o->crowd_min_similar = v >> 4; o->crowd_max_minor_axis = v / 16.0; break;
+    case 12:
+      o->crowd_min_small_found = v;
+      o->crowd_min_similar = v >> 4;
+      o->crowd_max_minor_axis = v / 16.0;
+      if (v & 1) o->closed_min_support = p;  // < 0 refused, [0, 1] on, > 1 off
+      break;
     case 9: o->pair_reach = v / 64.0; break;  // <= 0 is refused; large values reach every arc
     case 10: o->retire_found_arcs = (v & 1) != 0; o->fit_pair_centers = (v & 2) != 0; break;
     case 0: o->pair_candidates = (v & 1) != 0; o->pair_min_edge_coverage = (v >> 1) / 1000.0; break;
@@ -92,8 +97,9 @@ void EditOptionMore(int field, int v, Options* o) {
     default: {  // a non-finite value into one of the double fields above
       double* fields[] = {&o->pair_min_edge_coverage, &o->min_edge_coverage, &o->min_exclusive_coverage,
                           &o->min_axis_ratio, &o->rim_min_coverage, &o->refined_circumference_ratio,
-                          &o->cluster_relative, &o->pair_reach, &o->crowd_max_minor_axis, &o->rescue_min_coverage};
-      *fields[static_cast<unsigned>(v) % 10] = (v & 0x100) ? inf : ((v & 0x200) ? -inf : nan);
+                          &o->cluster_relative, &o->pair_reach, &o->crowd_max_minor_axis, &o->rescue_min_coverage,
+                          &o->closed_min_support};
+      *fields[static_cast<unsigned>(v) % 11] = (v & 0x100) ? inf : ((v & 0x200) ? -inf : nan);
       break;
     }
   }

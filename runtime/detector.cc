@@ -105,6 +105,8 @@ Status ValidateOptions(const Options& o) {
     return Invalid("max_nested_striped_share must be in [0, 1] (1: off)");
   if (!Finite(o.pair_min_edge_coverage) || o.pair_min_edge_coverage < 0 || o.pair_min_edge_coverage > 1)
     return Invalid("pair_min_edge_coverage must be in [0, 1]");
+  if (!Finite(o.closed_min_support) || o.closed_min_support < 0)
+    return Invalid("closed_min_support must be a finite number >= 0 (> 1 turns it off)");
   if (!Finite(o.rescue_min_coverage) || o.rescue_min_coverage < 0)
     return Invalid("rescue_min_coverage must be a finite number >= 0 (> 1 turns the second chance off)");
   if (!Finite(o.min_axis_ratio) || o.min_axis_ratio < 0 || o.min_axis_ratio > 1)

@@ -46,6 +46,7 @@ class Detector:
         crowd_min_small_found: int = ...,
         crowd_max_minor_axis: float = ...,
         crowd_min_similar: int = ...,
+        closed_min_support: float = ...,
         center_method: Literal["longest_chords", "arc_chords"] = ...,
         fit_pair_centers: bool = ...,
         pair_reach: float = ...,
