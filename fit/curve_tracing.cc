@@ -74,8 +74,9 @@ bool IsolatedPixel(const std::uint8_t* work, std::ptrdiff_t pitch, std::int32_t 
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,
                  int min_points, Curves* out, TraceScratch* scratch, int short_min_points,
-                 int* short_curves, const std::uint8_t* skip) {
+                 int* short_curves, const std::uint8_t* skip, Curves* short_out, int short_out_min_points) {
   out->clear();
+  if (short_out) short_out->clear();
   int edge_pixels = 0;
   int short_count = 0;
   const std::ptrdiff_t pitch = width + 2;
@@ -113,22 +114,24 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
       Follow(work.data(), offset, p, x, y, cls, &scratch->backward);
       const std::size_t n = scratch->forward.size() + scratch->backward.size() + 1;
       edge_pixels += static_cast<int>(n);
+      Curves* to = out;
       if (n < static_cast<std::size_t>(min_points)) {
         short_count += n >= static_cast<std::size_t>(short_min_points);
-        continue;
+        if (short_out == nullptr || n < static_cast<std::size_t>(short_out_min_points)) continue;
+        to = short_out;
       }
       auto append = [&](std::int32_t xy) {
         const int py = xy >> 16, px = xy & 0xffff;
-        out->x.push_back(px);
-        out->y.push_back(py);
-        out->gx.push_back(dx[py * grad_stride + px]);
-        out->gy.push_back(dy[py * grad_stride + px]);
+        to->x.push_back(px);
+        to->y.push_back(py);
+        to->gx.push_back(dx[py * grad_stride + px]);
+        to->gy.push_back(dy[py * grad_stride + px]);
       };
       for (auto it = scratch->backward.rbegin(); it != scratch->backward.rend(); ++it) append(*it);
       append(PackXY(x, y));
       for (const std::int32_t xy : scratch->forward) append(xy);
-      out->sign_class.push_back(cls);
-      out->offset.push_back(static_cast<std::int32_t>(out->x.size()));
+      to->sign_class.push_back(cls);
+      to->offset.push_back(static_cast<std::int32_t>(to->x.size()));
     }
   }
   if (short_curves) *short_curves = short_count;

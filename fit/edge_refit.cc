@@ -31,6 +31,21 @@ bool FitToEdgesNear(const EdgeMapView& in, double distance, EdgeRefitScratch* sc
   return RefineEllipse(group, 1, e);
 }
 
+double RmsDistanceOfEdgesNear(const EdgeMapView& in, const Ellipse& e, double distance, EdgeRefitScratch* scratch) {
+  const int n = EdgePointsNear(in, e, distance, &scratch->x, &scratch->y);
+  if (n == 0) return 0;
+  const double c = std::cos(e.theta), s = std::sin(e.theta);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    const double dx = scratch->x[i] - e.cx, dy = scratch->y[i] - e.cy;
+    const double u = (dx * c + dy * s) / e.a, v = (dy * c - dx * s) / e.b;  // F = u^2 + v^2 - 1
+    const double f = u * u + v * v - 1, gu = 2 * u / e.a, gv = 2 * v / e.b;
+    const double g2 = gu * gu + gv * gv;  // 0 only at the centre, which lies near the outline when b <= distance
+    sum += g2 > 0 ? f * f / g2 : distance * distance;
+  }
+  return std::sqrt(sum / n);
+}
+
 bool FitToEdgesNearRounds(const EdgeMapView& in, double distance, int rounds, EdgeRefitScratch* scratch, Ellipse* e,
                           long* scanned_pixels) {
   const double frame = static_cast<double>(in.width) * in.height;

@@ -40,6 +40,12 @@ bool RefitToEdges(const EdgeMapView& in, Ellipse* e, EdgeRefitScratch* scratch, 
 // give no ellipse. Also the recessed-rim search's step (fit/recessed_rim.h).
 bool FitToEdgesNear(const EdgeMapView& in, double distance, EdgeRefitScratch* scratch, Ellipse* e);
 
+// The root mean square of the first-order distances (|F| / |grad F|) to e of the edge pixels
+// within `distance` px of it whose gradient lies along its normal (EdgePointsNear); 0 when there are
+// none. Thin (NMS) edges along a true ellipse give ~0.33-0.36 px (pixel quantisation); a rounded
+// square or a blob of texture that a small ellipse fits within 1 px gives more.
+double RmsDistanceOfEdgesNear(const EdgeMapView& in, const Ellipse& e, double distance, EdgeRefitScratch* scratch);
+
 // An ellipse fitted to its group's arcs, refitted to the edges along its whole outline: one
 // FitToEdgesNear at kAlongOutlineDistance, kept only when it stays close to *e (feature distance
 // below 0.2 b + 1 px, as RefitToEdges); false (*e left alone) otherwise. The clustering's second

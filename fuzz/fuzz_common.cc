@@ -77,6 +77,7 @@ void EditOptionMore(int field, int v, Options* o) {
       o->crowd_min_similar = v >> 4;
       o->crowd_max_minor_axis = v / 16.0;
       if (v & 1) o->closed_min_support = p;  // < 0 refused, [0, 1] on, > 1 off
+      if (v & 2) o->crowd_closed_min_support = p;
       break;
     case 9: o->pair_reach = v / 64.0; break;  // <= 0 is refused; large values reach every arc
     case 10: o->retire_found_arcs = (v & 1) != 0; o->fit_pair_centers = (v & 2) != 0; break;
@@ -98,8 +99,8 @@ void EditOptionMore(int field, int v, Options* o) {
       double* fields[] = {&o->pair_min_edge_coverage, &o->min_edge_coverage, &o->min_exclusive_coverage,
                           &o->min_axis_ratio, &o->rim_min_coverage, &o->refined_circumference_ratio,
                           &o->cluster_relative, &o->pair_reach, &o->crowd_max_minor_axis, &o->rescue_min_coverage,
-                          &o->closed_min_support};
-      *fields[static_cast<unsigned>(v) % 11] = (v & 0x100) ? inf : ((v & 0x200) ? -inf : nan);
+                          &o->closed_min_support, &o->crowd_closed_min_support};
+      *fields[static_cast<unsigned>(v) % 12] = (v & 0x100) ? inf : ((v & 0x200) ? -inf : nan);
       break;
     }
   }

@@ -107,6 +107,8 @@ Status ValidateOptions(const Options& o) {
     return Invalid("pair_min_edge_coverage must be in [0, 1]");
   if (!Finite(o.closed_min_support) || o.closed_min_support < 0)
     return Invalid("closed_min_support must be a finite number >= 0 (> 1 turns it off)");
+  if (!Finite(o.crowd_closed_min_support) || o.crowd_closed_min_support < 0)
+    return Invalid("crowd_closed_min_support must be a finite number >= 0 (> 1 turns it off)");
   if (!Finite(o.rescue_min_coverage) || o.rescue_min_coverage < 0)
     return Invalid("rescue_min_coverage must be a finite number >= 0 (> 1 turns the second chance off)");
   if (!Finite(o.min_axis_ratio) || o.min_axis_ratio < 0 || o.min_axis_ratio > 1)
@@ -204,6 +206,18 @@ void Detector::Impl::Resize(int w, int h) {
   dropped.reserve(ReserveFor(options.max_candidates));
   claimed_near.reserve(2 * ReserveFor(options.max_candidates));
   groups.Reserve(w, h, options);
+  // The crowd pass's pieces for the closed outlines: its curves and short curves, each edge pixel
+  // in one of them; a fitted group holds at least kClosedMinPoints of them. Not on a coarse level
+  // (BackEnd runs the crowd pass on the working level only) nor with the outlines off.
+  const bool closed_outlines = !coarse_level && options.crowd_min_curve_points < options.min_curve_points &&
+                               (options.crowd_closed_min_support <= 1 || options.closed_min_support <= 1);
+  if (!closed_outlines) return;
+  const std::size_t piece_count = points / kClosedMinPiecePoints + 1;
+  closed_pieces.x.reserve(points); closed_pieces.y.reserve(points);
+  closed_pieces.gx.reserve(points); closed_pieces.gy.reserve(points);
+  closed_pieces.offset.reserve(piece_count + 1); closed_pieces.sign_class.reserve(piece_count);
+  closed_scratch.Reserve(piece_count, w, h);
+  closed_fits.reserve(points / kClosedMinPoints + 1);
 }
 
 

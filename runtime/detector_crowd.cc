@@ -2,9 +2,11 @@
 // edges the ellipses found so far leave unexplained, for the small ellipses of a crowded frame
 // whose outlines the paper's T_n drops. Measured in docs/crowded-scenes.md. With
 // Options::closed_min_support it also runs outside crowds, for small outlines its edges close.
+// After it, the small closed outlines joined from its pieces (fit/closed_outlines.h).
 #include <algorithm>
 
 #include "fit/arc_selection.h"
+#include "fit/closed_outlines.h"
 #include "runtime/detector_impl.h"
 
 namespace ellipsekit {
@@ -16,7 +18,21 @@ constexpr int kCrowdShortToLong = 4;
 // Outside a crowd (Options::closed_min_support) the pass keeps the curves at most this many
 // crowd_max_minor_axis wide and high: a quarter of an outline with that semi-minor axis, seen at
 // up to 60 degrees, spans at most 2 of them.
-constexpr double kClosedMaxExtent = 2.5;
+constexpr double kClosedMaxCurveExtent = 2.5;
+// AddClosedOutlines fits the groups of pieces at most this many crowd_max_minor_axis wide and
+// high (a whole outline with that semi-minor axis, seen at up to 60 degrees, spans at most 4).
+constexpr double kClosedMaxGroupExtent = 4;
+
+// Appends the curves of `from` to *to.
+void AppendCurves(const Curves& from, Curves* to) {
+  const std::int32_t base = static_cast<std::int32_t>(to->x.size());
+  to->x.insert(to->x.end(), from.x.begin(), from.x.end());
+  to->y.insert(to->y.end(), from.y.begin(), from.y.end());
+  to->gx.insert(to->gx.end(), from.gx.begin(), from.gx.end());
+  to->gy.insert(to->gy.end(), from.gy.begin(), from.gy.end());
+  to->sign_class.insert(to->sign_class.end(), from.sign_class.begin(), from.sign_class.end());
+  for (int i = 1; i <= from.size(); ++i) to->offset.push_back(base + from.offset[i]);
+}
 }  // namespace
 
 // Runs after BackEndAt at the working level, before the coarser levels; adds to r->ellipses in
@@ -24,6 +40,7 @@ constexpr double kClosedMaxExtent = 2.5;
 // is reported in r->caps_hit), and it runs only when the first pass reached none. Its pairs,
 // triplets and candidates are added to r's counts.
 void Detector::Impl::AddCrowdPass(DetectionResult* r) {
+  crowd_ran = false;
   if (options.crowd_min_curve_points >= options.min_curve_points || r->caps_hit != kCapNone) return;
   const bool closed = options.closed_min_support <= 1;  // the pass runs on every frame, for closed outlines
   bool crowd = front.short_curves >= options.crowd_min_short_curves;
@@ -39,12 +56,16 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   // Only the edges the first pass's ellipses leave unexplained: this pass looks for new ones, and
   // re-finding those it has would double the pass's cost (crowded frames: most of its work).
   for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
+  // Its short curves, and its curves before any filter, are the pieces AddClosedOutlines joins.
   TraceCurves(edge_map.data(), width, dx.data(), dy.data(), width, width, height, options.min_curve_points, &curves,
-              &trace, 0, nullptr, claims.mask.data());
+              &trace, 0, nullptr, claims.mask.data(), &closed_pieces, kClosedMinPiecePoints);
+  AppendCurves(curves, &closed_pieces);  // a small ring's outline may be in pieces of either length
+  crowd_ran = true;
+  crowd_frame = crowd;
   claims.Clear();  // the back end's scratch
   // Not a crowd: only curves that fit a small outline (measured: the same correct detections on
   // every set as with every curve, 6 % fewer instructions over the shared photographs).
-  if (!crowd) DropCurvesWiderThan(kClosedMaxExtent * options.crowd_max_minor_axis, &curves);
+  if (!crowd) DropCurvesWiderThan(kClosedMaxCurveExtent * options.crowd_max_minor_axis, &curves);
   FilterCurvesByObb(options, &curves, &hull);
   const bool arcs_done = front.arcs_done;
   front.arcs_done = false;  // the device's arcs were the first pass's curves: CPU arcs now, exact alike
@@ -73,6 +94,40 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
     bool known = false;
     for (std::size_t i = 0; i < first_pass && !known; ++i) known = Overlapping(r->ellipses[i], e);
     if (!known) r->ellipses.push_back(e);
+  }
+}
+
+// Runs after AddCrowdPass, on the pieces its trace kept (none when it did not trace): the fits of
+// FitClosedOutlines that the edges back (Options::crowd_closed_min_support) are added to
+// r->ellipses. Work: one fit per group of pieces, and per fit one refit (a band scan along an
+// outline of b <= crowd_max_minor_axis) and a test against each ellipse found.
+void Detector::Impl::AddClosedOutlines(DetectionResult* r) {
+  if (!crowd_ran || r->caps_hit != kCapNone) return;
+  const double min_support =
+      crowd_frame ? std::min(options.closed_min_support, options.crowd_closed_min_support) : options.closed_min_support;
+  if (!(min_support <= 1)) return;
+  FitClosedOutlines(closed_pieces, kClosedMaxGroupExtent * options.crowd_max_minor_axis, &closed_scratch, &closed_fits);
+  for (Ellipse e : closed_fits) {
+    if (!(e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis && e.b >= options.min_axis_ratio * e.a)) {
+      continue;
+    }
+    double share = -1;
+    RefitToEdges(EdgeView(), &e, &refit_scratch, &share);
+    if (!(share >= min_support && e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis)) {
+      continue;
+    }
+    bool known = false;
+    // Found already, or the inner edge of a rim found already: one ellipse per rim, as the first
+    // pass keeps the outer rim of a pair it finds (CompleteOuterRims; a cup's lip seen from above).
+    for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) {
+      known = Overlapping(r->ellipses[i], e) || IsOuterRim(r->ellipses[i], e);
+    }
+    if (known || RmsDistanceOfEdgesNear(EdgeView(), e, kEdgeRefitDistance, &refit_scratch) > kClosedMaxRms ||
+        StripedShare(EdgeView(), e, kClosedMaxStriped) > kClosedMaxStriped) {
+      continue;
+    }
+    e.score = share;
+    r->ellipses.push_back(e);
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include "ellipsekit/detector.h"
 #include "fit/arc_selection.h"
+#include "fit/closed_outlines.h"
 #include "fit/clustering.h"
 #include "fit/curve_tracing.h"
 #include "fit/edge_coverage.h"
@@ -38,6 +39,9 @@ inline constexpr int kMinPyramidSide = 64;
 // T_n), whatever crowd_min_curve_points the pass itself traces with: the counts it was measured on
 // (docs/crowded-scenes.md); curves of 10-11 points are common in photographs' texture.
 inline constexpr int kCrowdTriggerMinPoints = 12;
+// Options::crowd_closed_min_support: the pieces of a small closed outline are the crowd pass's
+// curves and its dropped curves of at least this many points.
+inline constexpr int kClosedMinPiecePoints = 5;
 
 // An axis-aligned box, for cheap "could these two ellipses touch" tests.
 struct Box {
@@ -100,6 +104,13 @@ struct Detector::Impl {
   // buffers (the first pass's curves, arcs and candidates are spent once its ellipses are out).
   DetectionResult crowd_result;
   std::vector<double> minor_axes;  // the crowd pass's semi-minor axes, sorted
+  // Options::crowd_closed_min_support: the crowd pass's curves and short curves, their groups' fits.
+  Curves closed_pieces;
+  bool coarse_level = false;  // a coarse pyramid level's Detector (Options::coarse_levels): BackEndAt only
+  bool crowd_ran = false;    // this frame's crowd pass traced again (and filled closed_pieces)
+  bool crowd_frame = false;  // ... on a crowd (not only for Options::closed_min_support)
+  ClosedOutlineScratch closed_scratch;
+  std::vector<Ellipse> closed_fits;
 
   // The first frame of a size sizes the buffers (detector.cc).
   void Resize(int w, int h);
@@ -138,7 +149,8 @@ struct Detector::Impl {
   bool HoldsAnother(int i, int kept) const;             // detector_checks.cc
   int KeepExclusivelySupported(int kept);              // detector_checks.cc
   int DropStriped(int kept);                           // detector_checks.cc
-  void AddCrowdPass(DetectionResult* result);  // detector_crowd.cc
+  void AddCrowdPass(DetectionResult* result);       // detector_crowd.cc
+  void AddClosedOutlines(DetectionResult* result);  // detector_crowd.cc
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 

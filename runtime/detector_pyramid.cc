@@ -77,6 +77,7 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
   const bool arcs_in_front = front.arcs_done;
   BackEndAt(r);
   AddCrowdPass(r);
+  AddClosedOutlines(r);
   const int level = front.level;
   ImageView image = front.image;
   claimed_near.clear();
@@ -97,6 +98,7 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
       coarse[c] = std::make_unique<Impl>();
       coarse[c]->options = options;
       coarse[c]->kernels = kernels;
+      coarse[c]->coarse_level = true;
       coarse[c]->options.pyramid_level = 1;  // it reduces the level above it once (Reduce)
       coarse[c]->options.coarse_levels = 0;
       // Budgets follow the level's pixels (a quarter per level): the caps bound the work of the

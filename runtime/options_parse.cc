@@ -67,6 +67,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"pair_min_edge_coverage", &Options::pair_min_edge_coverage},
       {"rescue_min_coverage", &Options::rescue_min_coverage},
       {"closed_min_support", &Options::closed_min_support},
+      {"crowd_closed_min_support", &Options::crowd_closed_min_support},
       {"pair_reach", &Options::pair_reach},
       {"crowd_max_minor_axis", &Options::crowd_max_minor_axis},
       {"min_axis_ratio", &Options::min_axis_ratio},

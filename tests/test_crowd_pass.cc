@@ -2,7 +2,9 @@
 // small for T_n is found with it and not without; frames that are no crowd give exactly what the
 // first pass gives; every CPU backend (and Vulkan where a device is present) agrees bit for bit.
 // With Options::closed_min_support it runs outside crowds too: small tops whose rims trace as
-// pieces shorter than T_n are found, nothing else is added, and the backends still agree.
+// pieces shorter than T_n are found, nothing else is added, and the backends still agree. In a
+// crowd of small rings the outlines joined from its pieces (Options::crowd_closed_min_support)
+// find the rings it misses.
 #include <cstdio>
 #include <vector>
 
@@ -38,17 +40,20 @@ Options CrowdPassOff() {
   return o;
 }
 
+// Scene `index` of `ellipsekit scenes --crowded --layout L --size WxH --objects N --seed 9`.
+scenes::Scene CrowdedScene(scenes::CrowdedLayout layout, int width, int height, int objects, std::uint64_t index) {
+  scenes::CrowdedSceneOptions o;
+  o.width = width;
+  o.height = height;
+  o.layout = layout;
+  o.objects = objects;
+  return scenes::RenderCrowdedScene(scenes::MixSeed(9, index), o);
+}
+
 // Scene 19 of `ellipsekit scenes --crowded --layout dots --size 1024x768 --objects 300 --seed 9`:
 // 300 dots whose outlines trace as curves of 12-14 points. Measured: 0 found by the first pass,
-// 274 correct with the crowd pass, none false.
-scenes::Scene SmallDots() {
-  scenes::CrowdedSceneOptions o;
-  o.width = 1024;
-  o.height = 768;
-  o.layout = scenes::CrowdedLayout::kDotGrid;
-  o.objects = 300;
-  return scenes::RenderCrowdedScene(scenes::MixSeed(9, 19), o);
-}
+// 300 correct with the crowd pass (274 before the closed outlines joined its pieces), none false.
+scenes::Scene SmallDots() { return CrowdedScene(scenes::CrowdedLayout::kDotGrid, 1024, 768, 300, 19); }
 
 TEST(CrowdPass, FindsDotsTooSmallForTheFirstPass) {
   const scenes::Scene s = SmallDots();
@@ -92,6 +97,26 @@ std::size_t ExpectBackendsAgree(const cv::Mat& gray, Options o) {
 }
 
 TEST(CrowdPass, BackendsAgreeBitForBit) { EXPECT_GT(ExpectBackendsAgree(SmallDots().gray, Options{}), 200u); }
+
+// Scene 1 of `ellipsekit scenes --crowded --layout rings --size 640x480 --objects 150 --seed 9`:
+// 150 small rings (300 truth ellipses: each ring's outer and inner edge). Measured: without the
+// closed outlines (crowd_closed_min_support=2) 155 correct, with them 299, none false.
+scenes::Scene SmallRings() { return CrowdedScene(scenes::CrowdedLayout::kRingGrid, 640, 480, 150, 1); }
+
+TEST(CrowdPass, ClosedOutlinesInACrowdOfSmallRings) {
+  const scenes::Scene s = SmallRings();
+  ASSERT_EQ(s.truth.size(), 300u);
+  Options off;
+  off.crowd_closed_min_support = 2;
+  const std::vector<Ellipse> without = Detect(s.gray, off), with = Detect(s.gray, Options{});
+  const eval::MatchResult m_without = eval::MatchEllipses(without, s.truth), m_with = eval::MatchEllipses(with, s.truth);
+  std::printf("[closed] small rings: without %d correct of %zu, with %d correct of %zu\n", m_without.counts.correct,
+              without.size(), m_with.counts.correct, with.size());
+  EXPECT_LT(m_without.counts.correct, 200);
+  EXPECT_GE(m_with.counts.correct, 290);
+  EXPECT_LE(static_cast<int>(with.size()) - m_with.counts.correct, 2);
+  EXPECT_GT(ExpectBackendsAgree(s.gray, Options{}), 290u);
+}
 
 // Scenes 38 and 60 of `ellipsekit scenes --hard --bottles --seed 1`: 12 tops, two of them small
 // (semi-minor axis 5-9 px) with rims traced as pieces of 10-14 points. Measured: the default finds

@@ -47,6 +47,7 @@ class Detector:
         crowd_max_minor_axis: float = ...,
         crowd_min_similar: int = ...,
         closed_min_support: float = ...,
+        crowd_closed_min_support: float = ...,
         center_method: Literal["longest_chords", "arc_chords"] = ...,
         fit_pair_centers: bool = ...,
         pair_reach: float = ...,
