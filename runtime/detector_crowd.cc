@@ -43,12 +43,15 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   crowd_ran = false;
   if (options.crowd_min_curve_points >= options.min_curve_points || r->caps_hit != kCapNone) return;
   const bool closed = options.closed_min_support <= 1;  // the pass runs on every frame, for closed outlines
-  bool crowd = front.short_curves >= options.crowd_min_short_curves;
-  // A crowd: the first pass found many small ellipses, or found little while the trace dropped
-  // several times more short curves than it kept (dots too small for T_n; texture drops fewer).
+  // A crowd: the first pass found many small ellipses (their neighbours' pieces are worth a second
+  // trace, however few of them reach 12 points: the holes of small rings trace as pieces of 5-9),
+  // or found little while the trace dropped many short curves, several times more than it kept
+  // (dots too small for T_n; texture drops fewer).
   int small = 0;
   for (const Ellipse& e : r->ellipses) small += e.b <= options.crowd_max_minor_axis;
-  if (small < options.crowd_min_small_found && front.short_curves < kCrowdShortToLong * r->num_curves) crowd = false;
+  const bool crowd = small >= options.crowd_min_small_found ||
+                     (front.short_curves >= options.crowd_min_short_curves &&
+                      front.short_curves >= kCrowdShortToLong * r->num_curves);
   if (!crowd && !closed) return;
   // The first pass's ellipses are in r: its curves, arcs and candidates make room for this pass's.
   const int first_min_points = options.min_curve_points;

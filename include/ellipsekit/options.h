@@ -112,10 +112,10 @@ struct Options {
 
   // ---- crowd pass (our addition; measured in docs/crowded-scenes.md)
   // Small outlines (semi-minor axis of a few px: dots of a calibration target, caps of a tray seen
-  // from afar) are traced as curves shorter than T_n, one per gradient class. When the trace drops
-  // at least crowd_min_short_curves curves of max(12, crowd_min_curve_points) to T_n - 1 points, and the
-  // frame is a crowd (the back end found at least crowd_min_small_found ellipses of semi-minor
-  // axis <= crowd_max_minor_axis, or the dropped short curves outnumber the kept ones 4 to 1), the
+  // from afar) are traced as curves shorter than T_n, one per gradient class. When the frame is a
+  // crowd (the back end found at least crowd_min_small_found ellipses of semi-minor axis <=
+  // crowd_max_minor_axis, or the trace dropped at least crowd_min_short_curves curves of
+  // max(12, crowd_min_curve_points) to T_n - 1 points and 4 times as many as it kept), the
   // back end runs again on the edges the ellipses found so far leave unexplained, traced with
   // crowd_min_curve_points as T_n. An ellipse it finds is added when its semi-minor axis is at
   // most crowd_max_minor_axis px (at the working pyramid level), it is not one found already, and
