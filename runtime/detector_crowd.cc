@@ -4,6 +4,7 @@
 // Options::closed_min_support it also runs outside crowds, for small outlines its edges close.
 // After it, the small closed outlines joined from its pieces (fit/closed_outlines.h).
 #include <algorithm>
+#include <cmath>
 
 #include "fit/arc_selection.h"
 #include "fit/closed_outlines.h"
@@ -32,6 +33,15 @@ void AppendCurves(const Curves& from, Curves* to) {
   to->gy.insert(to->gy.end(), from.gy.begin(), from.gy.end());
   to->sign_class.insert(to->sign_class.end(), from.sign_class.begin(), from.sign_class.end());
   for (int i = 1; i <= from.size(); ++i) to->offset.push_back(base + from.offset[i]);
+}
+
+// `outer` is a rim around `inner`: concentric (centres within kRimCentreTolerance inner.b) and
+// larger by a factor (a + b) in [kRimMinScale, kRimMaxScale] (fit/clustering.h), whatever the
+// shapes.
+bool InsideRim(const Ellipse& outer, const Ellipse& inner) {
+  const double scale = (outer.a + outer.b) / (inner.a + inner.b);
+  return std::hypot(outer.cx - inner.cx, outer.cy - inner.cy) < kRimCentreTolerance * inner.b &&
+         scale >= kRimMinScale && scale <= kRimMaxScale;
 }
 }  // namespace
 
@@ -123,7 +133,7 @@ void Detector::Impl::AddClosedOutlines(DetectionResult* r) {
     // Found already, or the inner edge of a rim found already: one ellipse per rim, as the first
     // pass keeps the outer rim of a pair it finds (CompleteOuterRims; a cup's lip seen from above).
     for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) {
-      known = Overlapping(r->ellipses[i], e) || IsOuterRim(r->ellipses[i], e);
+      known = Overlapping(r->ellipses[i], e) || InsideRim(r->ellipses[i], e);
     }
     if (known || RmsDistanceOfEdgesNear(EdgeView(), e, kEdgeRefitDistance, &refit_scratch) > kClosedMaxRms ||
         StripedShare(EdgeView(), e, kClosedMaxStriped) > kClosedMaxStriped) {

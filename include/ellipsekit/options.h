@@ -151,8 +151,9 @@ struct Options {
   // the smaller of the two in a crowd), its semi-minor axis lies in [4, crowd_max_minor_axis] px,
   // the edges near it lie within 0.45 px of it (root mean square), it is no stripe, and it is not
   // found already nor the inner edge of a rim found already. > 1 turns it off in crowds. Measured
-  // in docs/crowded-scenes.md ("Closed outlines"): 150 small rings per frame 4063 -> 5318 correct of
-  // 6000, no other set more than +7; a dense tray of cups +10 false (inner lips).
+  // in docs/crowded-scenes.md ("Closed outlines", with the crowd trigger of 2026-12-07): 150 small
+  // rings per frame 4063 -> 5767 correct of 6000, crowded seeds 1 / 2 +7 / +28, a dense tray of
+  // cups +4 false (inner lips).
   double crowd_closed_min_support = 0.95;
 
   // ---- grouping and centre (sec. II-B-3, II-C-1)
