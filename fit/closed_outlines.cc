@@ -11,7 +11,8 @@ namespace ellipsekit {
 
 namespace {
 
-constexpr int kCell = 4;  // px; > kClosedLinkGap, so joined ends lie in the same or adjacent cells
+constexpr int kCell = 4;  // px; >= kClosedLinkGap, so joined ends lie in the same or adjacent cells
+static_assert(kCell >= kClosedLinkGap);
 
 std::int32_t Root(std::vector<std::int32_t>& parent, std::int32_t i) {
   while (parent[i] != i) {
