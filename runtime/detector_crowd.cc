@@ -43,6 +43,18 @@ bool InsideRim(const Ellipse& outer, const Ellipse& inner) {
   return std::hypot(outer.cx - inner.cx, outer.cy - inner.cy) < kRimCentreTolerance * inner.b &&
          scale >= kRimMinScale && scale <= kRimMaxScale;
 }
+
+// Whether one of found[0, n) is e (Overlapping) or, with rims, a rim around it (InsideRim). Both
+// need centres within 0.25 e.b (Overlapping: 0.25 of the smaller b; InsideRim: 0.1 e.b): a box test
+// first spares the others their roots (a crowd's n is hundreds, for each of hundreds of e).
+bool FoundAlready(const Ellipse* found, std::size_t n, const Ellipse& e, bool rims) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Ellipse& f = found[i];
+    if (!(std::abs(f.cx - e.cx) < 0.25 * e.b && std::abs(f.cy - e.cy) < 0.25 * e.b)) continue;
+    if (Overlapping(f, e) || (rims && InsideRim(f, e))) return true;
+  }
+  return false;
+}
 }  // namespace
 
 // Runs after BackEndAt at the working level, before the coarser levels; adds to r->ellipses in
@@ -104,9 +116,7 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
                          std::lower_bound(minor_axes.begin(), minor_axes.end(), 0.5 * e.b) - 1;  // less e itself
     // One of a crowd of similar ones, or (Options::closed_min_support) an outline its edges close.
     if (!(crowd && similar >= options.crowd_min_similar) && !(e.score >= options.closed_min_support)) continue;
-    bool known = false;
-    for (std::size_t i = 0; i < first_pass && !known; ++i) known = Overlapping(r->ellipses[i], e);
-    if (!known) r->ellipses.push_back(e);
+    if (!FoundAlready(r->ellipses.data(), first_pass, e, false)) r->ellipses.push_back(e);
   }
 }
 
@@ -129,13 +139,10 @@ void Detector::Impl::AddClosedOutlines(DetectionResult* r) {
     if (!(share >= min_support && e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis)) {
       continue;
     }
-    bool known = false;
     // Found already, or the inner edge of a rim found already: one ellipse per rim, as the first
     // pass keeps the outer rim of a pair it finds (CompleteOuterRims; a cup's lip seen from above).
-    for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) {
-      known = Overlapping(r->ellipses[i], e) || InsideRim(r->ellipses[i], e);
-    }
-    if (known || RmsDistanceOfEdgesNear(EdgeView(), e, kEdgeRefitDistance, &refit_scratch) > kClosedMaxRms ||
+    if (FoundAlready(r->ellipses.data(), r->ellipses.size(), e, true) ||
+        RmsDistanceOfEdgesNear(EdgeView(), e, kEdgeRefitDistance, &refit_scratch) > kClosedMaxRms ||
         StripedShare(EdgeView(), e, kClosedMaxStriped) > kClosedMaxStriped) {
       continue;
     }
