@@ -57,12 +57,16 @@ bool SameEllipse(const Ellipse& v, const Ellipse& w, const Options& options) {
   return BothNearlyRound(v, w) || OrientationDifference(v.theta, w.theta) <= t;
 }
 
-bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
+bool SurroundsAsRim(const Ellipse& outer, const Ellipse& inner) {
   if (std::hypot(outer.cx - inner.cx, outer.cy - inner.cy) >= kRimCentreTolerance * inner.b) {
     return false;
   }
   const double scale = (outer.a + outer.b) / (inner.a + inner.b);
-  if (scale < kRimMinScale || scale > kRimMaxScale) return false;
+  return scale >= kRimMinScale && scale <= kRimMaxScale;
+}
+
+bool IsOuterRim(const Ellipse& outer, const Ellipse& inner) {
+  if (!SurroundsAsRim(outer, inner)) return false;
   if (std::abs(outer.b / outer.a - inner.b / inner.a) > kRimAxisRatioTolerance) return false;
   return BothNearlyRound(outer, inner) ||
          OrientationDifference(outer.theta, inner.theta) <= kRimOrientationTolerance;

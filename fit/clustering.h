@@ -27,6 +27,10 @@ inline constexpr double kRimMaxScale = 1.45;
 inline constexpr double kRimAxisRatioTolerance = 0.05;
 inline constexpr double kRimOrientationTolerance = 0.2;
 bool IsOuterRim(const Ellipse& outer, const Ellipse& inner);
+// The first two of those, whatever the shapes: concentric and larger by a factor in [kRimMinScale,
+// kRimMaxScale]. The closed outlines (runtime/detector_crowd.cc) drop a fit inside such a rim: a
+// cup's inner lip differs from its rim by 0.05-0.07 in b / a.
+bool SurroundsAsRim(const Ellipse& outer, const Ellipse& inner);
 
 // A ledge below a top, our addition: `ledge` is at least kLedgeMinScale larger than `top` (a + b)
 // and centred at least kLedgeMinDrop * top.b lower along top's minor axis (fit/edge_refit.h

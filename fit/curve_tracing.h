@@ -28,7 +28,7 @@ struct TraceScratch {
 // skip, when not null: width x height bytes, row-major without padding; edge pixels where it is
 // non-zero are left out (the crowd pass: the edges of the ellipses found already).
 // short_out, when not null: receives (after clearing) the dropped curves of at least
-// short_out_min_points points (Options::closed_min_support: small closed outlines).
+// short_out_min_points points (the crowd pass: the pieces of small closed outlines).
 // Frames are at most 16384 px a side (points are packed in 16 bits per coordinate while traced).
 int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::int16_t* dx,
                  const std::int16_t* dy, std::ptrdiff_t grad_stride, int width, int height,

@@ -4,7 +4,6 @@
 // Options::closed_min_support it also runs outside crowds, for small outlines its edges close.
 // After it, the small closed outlines joined from its pieces (fit/closed_outlines.h).
 #include <algorithm>
-#include <cmath>
 
 #include "fit/arc_selection.h"
 #include "fit/closed_outlines.h"
@@ -34,27 +33,6 @@ void AppendCurves(const Curves& from, Curves* to) {
   to->sign_class.insert(to->sign_class.end(), from.sign_class.begin(), from.sign_class.end());
   for (int i = 1; i <= from.size(); ++i) to->offset.push_back(base + from.offset[i]);
 }
-
-// `outer` is a rim around `inner`: concentric (centres within kRimCentreTolerance inner.b) and
-// larger by a factor (a + b) in [kRimMinScale, kRimMaxScale] (fit/clustering.h), whatever the
-// shapes.
-bool InsideRim(const Ellipse& outer, const Ellipse& inner) {
-  const double scale = (outer.a + outer.b) / (inner.a + inner.b);
-  return std::hypot(outer.cx - inner.cx, outer.cy - inner.cy) < kRimCentreTolerance * inner.b &&
-         scale >= kRimMinScale && scale <= kRimMaxScale;
-}
-
-// Whether one of found[0, n) is e (Overlapping) or, with rims, a rim around it (InsideRim). Both
-// need centres within 0.25 e.b (Overlapping: 0.25 of the smaller b; InsideRim: 0.1 e.b): a box test
-// first spares the others their roots (a crowd's n is hundreds, for each of hundreds of e).
-bool FoundAlready(const Ellipse* found, std::size_t n, const Ellipse& e, bool rims) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const Ellipse& f = found[i];
-    if (!(std::abs(f.cx - e.cx) < 0.25 * e.b && std::abs(f.cy - e.cy) < 0.25 * e.b)) continue;
-    if (Overlapping(f, e) || (rims && InsideRim(f, e))) return true;
-  }
-  return false;
-}
 }  // namespace
 
 // Runs after BackEndAt at the working level, before the coarser levels; adds to r->ellipses in
@@ -62,7 +40,6 @@ bool FoundAlready(const Ellipse* found, std::size_t n, const Ellipse& e, bool ri
 // is reported in r->caps_hit), and it runs only when the first pass reached none. Its pairs,
 // triplets and candidates are added to r's counts.
 void Detector::Impl::AddCrowdPass(DetectionResult* r) {
-  crowd_ran = false;
   if (options.crowd_min_curve_points >= options.min_curve_points || r->caps_hit != kCapNone) return;
   const bool closed = options.closed_min_support <= 1;  // the pass runs on every frame, for closed outlines
   // A crowd: the first pass found many small ellipses (their neighbours' pieces are worth a second
@@ -75,6 +52,10 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
                      (front.short_curves >= options.crowd_min_short_curves &&
                       front.short_curves >= kCrowdShortToLong * r->num_curves);
   if (!crowd && !closed) return;
+  // The support a closed outline joined from this pass's pieces needs (> 1: the outlines are off).
+  const double outline_support =
+      crowd ? std::min(options.closed_min_support, options.crowd_closed_min_support) : options.closed_min_support;
+  const bool outlines = outline_support <= 1;
   // The first pass's ellipses are in r: its curves, arcs and candidates make room for this pass's.
   const int first_min_points = options.min_curve_points;
   options.min_curve_points = options.crowd_min_curve_points;  // T_n of the trace and the arcs
@@ -83,10 +64,8 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
   for (const Ellipse& e : r->ellipses) ClaimEdges(EdgeView(), e, &claims);
   // Its short curves, and its curves before any filter, are the pieces AddClosedOutlines joins.
   TraceCurves(edge_map.data(), width, dx.data(), dy.data(), width, width, height, options.min_curve_points, &curves,
-              &trace, 0, nullptr, claims.mask.data(), &closed_pieces, kClosedMinPiecePoints);
-  AppendCurves(curves, &closed_pieces);  // a small ring's outline may be in pieces of either length
-  crowd_ran = true;
-  crowd_frame = crowd;
+              &trace, 0, nullptr, claims.mask.data(), outlines ? &closed_pieces : nullptr, kClosedMinPiecePoints);
+  if (outlines) AppendCurves(curves, &closed_pieces);  // a small ring's outline may be in pieces of either length
   claims.Clear();  // the back end's scratch
   // Not a crowd: only curves that fit a small outline (measured: the same correct detections on
   // every set as with every curve, 6 % fewer instructions over the shared photographs).
@@ -116,29 +95,24 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
                          std::lower_bound(minor_axes.begin(), minor_axes.end(), 0.5 * e.b) - 1;  // less e itself
     // One of a crowd of similar ones, or (Options::closed_min_support) an outline its edges close.
     if (!(crowd && similar >= options.crowd_min_similar) && !(e.score >= options.closed_min_support)) continue;
-    if (!FoundAlready(r->ellipses.data(), first_pass, e, false)) r->ellipses.push_back(e);
+    if (!FoundAlready(r->ellipses.data(), first_pass, e)) r->ellipses.push_back(e);
   }
+  if (outlines) AddClosedOutlines(outline_support, r);
 }
 
-// Runs after AddCrowdPass, on the pieces its trace kept (none when it did not trace): the fits of
-// FitClosedOutlines that the edges back (Options::crowd_closed_min_support) are added to
-// r->ellipses. Work: one fit per group of pieces, and per fit one refit (a band scan along an
-// outline of b <= crowd_max_minor_axis) and a test against each ellipse found.
-void Detector::Impl::AddClosedOutlines(DetectionResult* r) {
-  if (!crowd_ran || r->caps_hit != kCapNone) return;
-  const double min_support =
-      crowd_frame ? std::min(options.closed_min_support, options.crowd_closed_min_support) : options.closed_min_support;
-  if (!(min_support <= 1)) return;
+// The end of AddCrowdPass, on the pieces its trace kept: the fits of FitClosedOutlines whose
+// support reaches min_support (Options::crowd_closed_min_support in a crowd, closed_min_support)
+// are added to r->ellipses. Work: one fit per group of pieces, and per fit one refit (a band scan
+// along an outline of b <= crowd_max_minor_axis) and a test against each ellipse found.
+void Detector::Impl::AddClosedOutlines(double min_support, DetectionResult* r) {
+  if (r->caps_hit != kCapNone) return;
   FitClosedOutlines(closed_pieces, kClosedMaxGroupExtent * options.crowd_max_minor_axis, &closed_scratch, &closed_fits);
+  auto small = [&](const Ellipse& e) { return e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis; };
   for (Ellipse e : closed_fits) {
-    if (!(e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis && e.b >= options.min_axis_ratio * e.a)) {
-      continue;
-    }
+    if (!(small(e) && e.b >= options.min_axis_ratio * e.a)) continue;  // before the refit, which costs more
     double share = -1;
     RefitToEdges(EdgeView(), &e, &refit_scratch, &share);
-    if (!(share >= min_support && e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis)) {
-      continue;
-    }
+    if (!(share >= min_support && small(e))) continue;
     // Found already, or the inner edge of a rim found already: one ellipse per rim, as the first
     // pass keeps the outer rim of a pair it finds (CompleteOuterRims; a cup's lip seen from above).
     if (FoundAlready(r->ellipses.data(), r->ellipses.size(), e, true) ||

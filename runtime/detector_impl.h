@@ -65,6 +65,18 @@ inline bool Overlapping(const Ellipse& v, const Ellipse& w) {
          std::abs(v.b - w.b) < 0.25 * std::max(v.b, w.b);
 }
 
+// Whether one of found[0, n) is e (Overlapping) or, with rims, a rim around it (SurroundsAsRim,
+// fit/clustering.h). Both need centres within 0.25 e.b: a box test first spares the others their
+// roots (in a crowd, n is hundreds for each of hundreds of e).
+inline bool FoundAlready(const Ellipse* found, std::size_t n, const Ellipse& e, bool rims = false) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Ellipse& f = found[i];
+    if (!(std::abs(f.cx - e.cx) < 0.25 * e.b && std::abs(f.cy - e.cy) < 0.25 * e.b)) continue;
+    if (Overlapping(f, e) || (rims && SurroundsAsRim(f, e))) return true;
+  }
+  return false;
+}
+
 struct Detector::Impl {
   Options options;
   Status status;
@@ -107,8 +119,6 @@ struct Detector::Impl {
   // Options::crowd_closed_min_support: the crowd pass's curves and short curves, their groups' fits.
   Curves closed_pieces;
   bool coarse_level = false;  // a coarse pyramid level's Detector (Options::coarse_levels): BackEndAt only
-  bool crowd_ran = false;    // this frame's crowd pass traced again (and filled closed_pieces)
-  bool crowd_frame = false;  // ... on a crowd (not only for Options::closed_min_support)
   ClosedOutlineScratch closed_scratch;
   std::vector<Ellipse> closed_fits;
 
@@ -149,8 +159,8 @@ struct Detector::Impl {
   bool HoldsAnother(int i, int kept) const;             // detector_checks.cc
   int KeepExclusivelySupported(int kept);              // detector_checks.cc
   int DropStriped(int kept);                           // detector_checks.cc
-  void AddCrowdPass(DetectionResult* result);       // detector_crowd.cc
-  void AddClosedOutlines(DetectionResult* result);  // detector_crowd.cc
+  void AddCrowdPass(DetectionResult* result);                           // detector_crowd.cc
+  void AddClosedOutlines(double min_support, DetectionResult* result);  // detector_crowd.cc, the end of AddCrowdPass
   EdgeMapView EdgeView() const { return {edge_map.data(), width, dx.data(), dy.data(), width, width, height}; }
 };
 

@@ -77,7 +77,6 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
   const bool arcs_in_front = front.arcs_done;
   BackEndAt(r);
   AddCrowdPass(r);
-  AddClosedOutlines(r);
   const int level = front.level;
   ImageView image = front.image;
   claimed_near.clear();
@@ -121,9 +120,7 @@ Status Detector::Impl::BackEnd(DetectionResult* r) {
     // kClaimReach cannot touch its coverage.
     claimed_near.resize(r->ellipses.size(), 0);
     for (const Ellipse& e : coarse_result.ellipses) {
-      bool known = false;
-      for (std::size_t i = 0; i < r->ellipses.size() && !known; ++i) known = Overlapping(r->ellipses[i], e);
-      if (known) continue;
+      if (FoundAlready(r->ellipses.data(), r->ellipses.size(), e)) continue;
       const Box reach = BoundingBox(e, kClaimReach);
       for (std::size_t i = 0; i < r->ellipses.size(); ++i) {
         if (claimed_near[i] || !reach.Intersects(BoundingBox(r->ellipses[i], kClaimReach))) continue;
