@@ -9,7 +9,9 @@ CLI's ``--option NAME=VALUE`` (include/ellipsekit/options.h), e.g.
 ``Detector(backend="scalar", split_angle_deg=30, center_method="arc_chords")``.
 
 Batch runs over many files (a Dask cluster, one JSON line per image):
-``python3 -m ellipsekit.batch INPUT... --out results.jsonl`` (see ``ellipsekit.batch``).
+``python3 -m ellipsekit.batch INPUT... --out results.jsonl`` (see ``ellipsekit.batch``); every
+combination of option values scored over a dataset:
+``python3 -m ellipsekit.sweep DATASET --grid NAME=V1,V2,...`` (see ``ellipsekit.sweep``).
 The robot adapter's camera model, circle pose and ``ellipsekit track`` are in ``ellipsekit.robot``.
 """
 

@@ -104,6 +104,45 @@ def run_chunk(paths, assignments, gt=None):
     return "".join(lines)
 
 
+def _sweep_record(path, points, gt):
+    image, problem, _note = _ellipsekit.load_gray(path)
+    if image is None:
+        return {"path": path, "status": problem}
+    truth, boxes, error = _truth(gt, path)
+    if error is not None:
+        return {"path": path, "status": f"no ground truth: {error}"}
+    counts = []
+    sizes = getattr(_local, "sweep_sizes", None)
+    if sizes is None:
+        sizes = _local.sweep_sizes = {}
+    for assignments in points:
+        detector = _detector(assignments)
+        # A Detector's first frame of a size allocates its buffers: an untimed detection first, as
+        # `ellipsekit eval` warms up, so that ms is the frame's own work.
+        if sizes.get(assignments) != image.shape:
+            detector.detect(image)
+            sizes[assignments] = image.shape
+        start = time.perf_counter()
+        ellipses, _figures = detector.detect(image)
+        ms = (time.perf_counter() - start) * 1e3
+        counts.append(list(_ellipsekit.match_counts(ellipses, truth, boxes)) + [ms])
+    return {"path": path, "status": "ok", "counts": counts}
+
+
+def sweep_chunk(paths, points, gt):
+    """What `python3 -m ellipsekit.sweep` runs per task: each image of `paths` decoded once and
+    detected with every option set of `points` (tuples of "name=value" texts), scored against `gt`
+    ({"dir", "dont_care"}, as run_chunk's) as `ellipsekit eval` scores. Returns one record per image:
+    {"path", "status": "ok", "counts": [[detected, truth, correct, ms], ...] (one per point)} or
+    {"path", "status": the problem}; a problem with one image never loses the chunk."""
+    records = []
+    for path in paths:
+        try:
+            records.append(_sweep_record(path, points, gt))
+        except Exception as e:  # noqa: BLE001 - one image must never lose the chunk
+            records.append({"path": path, "status": f"error: {type(e).__name__}: {e}"})
+    return records
+
 
 def describe():
     """What a worker runs, checked by the client before any work is sent (a worker machine without

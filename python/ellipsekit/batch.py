@@ -221,6 +221,20 @@ def _start_cluster(args):
     return Client(cluster), cluster
 
 
+def check_workers(client, prog):
+    """Exits with a message unless every worker runs this version of ellipsekit: a worker machine
+    without the package, or with another version of it, would fail every task."""
+    from ellipsekit import __version__
+    try:
+        versions = client.run(describe)
+    except Exception as e:  # noqa: BLE001 - e.g. ModuleNotFoundError raised on a worker
+        raise SystemExit(f"{prog}: a worker cannot run ellipsekit ({type(e).__name__}: {e}); "
+                         "install the package where the workers run (docs/python.md: Running on a cluster)")
+    other = {w: v for w, v in versions.items() if v != __version__}
+    if other:
+        raise SystemExit(f"{prog}: workers run other versions of ellipsekit than {__version__}: {other}")
+
+
 def run(args, log=None):
     """Runs a parsed command line; returns the exit status."""
     log = log or (lambda msg: print(f"ellipsekit.batch: {msg}", file=sys.stderr))
@@ -236,15 +250,7 @@ def run(args, log=None):
     counts = {"images": 0, "ellipses": 0, "errors": 0}
     progress = None
     try:
-        from ellipsekit import __version__
-        try:
-            versions = client.run(describe)
-        except Exception as e:  # noqa: BLE001 - e.g. ModuleNotFoundError raised on a worker
-            raise SystemExit(f"ellipsekit.batch: a worker cannot run ellipsekit ({type(e).__name__}: {e}); "
-                             "install the package where the workers run (README: Running on a cluster)")
-        other = {w: v for w, v in versions.items() if v != __version__}
-        if other:
-            raise SystemExit(f"ellipsekit.batch: workers run other versions of ellipsekit than {__version__}: {other}")
+        check_workers(client, "ellipsekit.batch")
         # The output is touched only once the cluster can do the work (a failed start leaves it be).
         fd = os.open(args.out, os.O_WRONLY | os.O_APPEND | os.O_CREAT | (0 if args.resume else os.O_TRUNC), 0o644)
         nthreads = client.nthreads()
