@@ -35,28 +35,37 @@ constexpr MoveOrder kMoveOrder;
 // Points are packed as (y << 16) | x: frames are at most 16384 px a side (ellipsekit/options.h).
 std::int32_t PackXY(int x, int y) { return (y << 16) | x; }
 
+// The moves in the order they are tried after move `last` (kMoveOrder), with their index steps
+// in `work` (index[last][i] = offset of move[last][i]): each neighbour test is one load. Built
+// once per frame, for its pitch.
+struct OrderedSteps {
+  std::ptrdiff_t index[8][8];
+  int move[8][8];
+};
+
 // Follows the chain from `start` (already taken) and appends the pixels it reaches, packed. At a
 // junction it takes the neighbour that turns least from the last step (ties: the order above),
 // so a rim keeps going where texture edges touch it instead of wandering off into them.
 // `work` has a one-pixel border of zeros, so neighbours need no bounds tests; indices are into
 // `work`, offset[k] the index step of move k.
-void Follow(std::uint8_t* work, const std::ptrdiff_t* offset, std::int32_t start, int x, int y, std::uint8_t cls,
-            std::vector<std::int32_t>* chain) {
+
+void Follow(std::uint8_t* work, const std::ptrdiff_t* offset, const OrderedSteps& steps, std::int32_t start, int x,
+            int y, std::uint8_t cls, std::vector<std::int32_t>* chain) {
   std::int32_t cur = start;
   int best = -1;
   for (int k = 0; k < 8; ++k) {  // the first move: the first neighbour in the fixed order
     if (work[cur + offset[k]] == cls) { best = k; break; }
   }
+  std::int32_t packed = PackXY(x, y);
   while (best >= 0) {
     cur = static_cast<std::int32_t>(cur + offset[best]);
-    x += kStepX[best];
-    y += kStepY[best];
+    packed += kStepY[best] * (1 << 16) + kStepX[best];  // x + step stays in [0, 16384): no borrow
     work[cur] = 0;
-    chain->push_back(PackXY(x, y));
+    chain->push_back(packed);
     const int last = best;
     best = -1;
-    for (const int k : kMoveOrder.order[last]) {
-      if (work[cur + offset[k]] == cls) { best = k; break; }
+    for (int i = 0; i < 8; ++i) {
+      if (work[cur + steps.index[last][i]] == cls) { best = steps.move[last][i]; break; }
     }
   }
 }
@@ -82,6 +91,13 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
   const std::ptrdiff_t pitch = width + 2;
   std::ptrdiff_t offset[8];
   for (int k = 0; k < 8; ++k) offset[k] = kStepY[k] * pitch + kStepX[k];
+  OrderedSteps steps;
+  for (int last = 0; last < 8; ++last) {
+    for (int i = 0; i < 8; ++i) {
+      steps.move[last][i] = kMoveOrder.order[last][i];
+      steps.index[last][i] = offset[steps.move[last][i]];
+    }
+  }
   std::vector<std::uint8_t>& work = scratch->work;
   work.resize(static_cast<std::size_t>(pitch) * (height + 2));
   std::fill(work.begin(), work.begin() + pitch, 0);  // the zero border, then each row between zeros
@@ -110,8 +126,8 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
       }
       scratch->forward.clear();
       scratch->backward.clear();
-      Follow(work.data(), offset, p, x, y, cls, &scratch->forward);
-      Follow(work.data(), offset, p, x, y, cls, &scratch->backward);
+      Follow(work.data(), offset, steps, p, x, y, cls, &scratch->forward);
+      Follow(work.data(), offset, steps, p, x, y, cls, &scratch->backward);
       const std::size_t n = scratch->forward.size() + scratch->backward.size() + 1;
       edge_pixels += static_cast<int>(n);
       Curves* to = out;

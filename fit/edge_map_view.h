@@ -23,9 +23,13 @@ struct EdgeMapView {
 // skipped 32, then 8 bytes at a time.
 inline int FirstNonZeroByte(const std::uint8_t* row, int x, int end) {
   for (; x + 32 <= end; x += 32) {
-    std::uint64_t w[4];
-    std::memcpy(w, row + x, sizeof w);
-    if ((w[0] | w[1] | w[2] | w[3]) != 0) break;
+    // Four loads into registers (one 32-byte copy into an array went through the stack).
+    std::uint64_t w0, w1, w2, w3;
+    std::memcpy(&w0, row + x, 8);
+    std::memcpy(&w1, row + x + 8, 8);
+    std::memcpy(&w2, row + x + 16, 8);
+    std::memcpy(&w3, row + x + 24, 8);
+    if ((w0 | w1 | w2 | w3) != 0) break;
   }
   for (; x + 8 <= end; x += 8) {
     std::uint64_t w;
