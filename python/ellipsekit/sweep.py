@@ -15,9 +15,10 @@ number of combinations: ~15 MB each at 640x480). The client sums each combinatio
 FILE.csv (default: sweep.csv), one row per combination, in the grid's order:
     NAME..., detected, truth, correct, precision, recall, f_measure, median_ms
 then prints the same table and the combination of the highest F-measure (the first such).
-An image that cannot be read, or has no ground truth, is reported and left out of every combination's
-counts; the others are scored. A worker process that dies costs only time (Dask runs its chunk
-again). Exit status: 0, 1 when an image was left out, 2 for a bad command line.
+An image that cannot be read, or has no ground truth, is reported and left out of every
+combination's counts; the others are scored (when none is, no table is written). A worker process
+that dies costs only time (Dask runs its chunk again). Exit status: 0, 1 when an image was left
+out, 2 for a bad command line.
 """
 
 import argparse
@@ -169,6 +170,9 @@ def run(args, log=None):
         if cluster is not None:
             cluster.close()
     wall = time.perf_counter() - start
+    if left_out == len(args.paths):  # eval's conventions would score nothing as P = R = 1
+        log(f"no image of {args.dataset} could be scored; no table written")
+        return 1
 
     header = list(args.names) + list(_COLUMNS)
     rows = _table(args, sums, times)

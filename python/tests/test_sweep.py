@@ -93,6 +93,17 @@ def test_images_that_cannot_be_scored_are_left_out(scenes, tmp_path):
         assert (row["detected"], row["correct"]) == (want["detected"], want["correct"])
 
 
+def test_no_image_scored_writes_no_table(scenes, tmp_path):
+    data = tmp_path / "data"
+    shutil.copytree(scenes, data)
+    for p in (data / "gt").iterdir():
+        os.remove(p)
+    table = tmp_path / "t.csv"
+    r = sweep(str(data), "--grid", "split_angle_deg=30,35", "--workers", "1", "--out", str(table))
+    assert r.returncode == 1 and "no image of" in r.stderr and "could be scored" in r.stderr, r.stderr
+    assert not table.exists()
+
+
 @pytest.mark.parametrize("args, message", [
     (("--grid", "split_angle_deg"), "expected NAME=V1,V2"),
     (("--grid", "split_angle_deg=30,,35"), "empty value"),
