@@ -102,14 +102,25 @@ void Detector::Impl::AddCrowdPass(DetectionResult* r) {
 
 // The end of AddCrowdPass, on the pieces its trace kept: the fits of FitClosedOutlines whose
 // support reaches min_support (Options::crowd_closed_min_support in a crowd, closed_min_support)
-// are added to r->ellipses. Work: one fit per group of pieces, and per fit one refit (a band scan
-// along an outline of b <= crowd_max_minor_axis) and a test against each ellipse found.
+// are added to r->ellipses. Each fit it checks is a candidate of the crowd pass: counted in
+// r->num_candidates, and within what is left of that pass's Options::max_candidates
+// (kCapCandidates when that runs out), so every ellipse reported comes from a counted candidate.
+// Work: one fit per group of pieces, and per fit checked one refit (a band scan along an outline
+// of b <= crowd_max_minor_axis) and a test against each ellipse found.
 void Detector::Impl::AddClosedOutlines(double min_support, DetectionResult* r) {
   if (r->caps_hit != kCapNone) return;
   FitClosedOutlines(closed_pieces, kClosedMaxGroupExtent * options.crowd_max_minor_axis, &closed_scratch, &closed_fits);
   auto small = [&](const Ellipse& e) { return e.b >= kClosedMinMinorAxis && e.b <= options.crowd_max_minor_axis; };
+  const int budget = options.max_candidates - crowd_result.num_candidates;
+  int checked = 0;
   for (Ellipse e : closed_fits) {
     if (!(small(e) && e.b >= options.min_axis_ratio * e.a)) continue;  // before the refit, which costs more
+    if (checked == budget) {
+      r->caps_hit |= kCapCandidates;
+      break;
+    }
+    ++checked;
+    ++r->num_candidates;
     double share = -1;
     RefitToEdges(EdgeView(), &e, &refit_scratch, &share);
     if (!(share >= min_support && small(e))) continue;

@@ -75,7 +75,9 @@ struct DetectionResult {
   // (Options::crowd_min_curve_points), each pass within the caps, so at most twice a cap.
   int num_pairs = 0;       // arc pairs that passed the position test and gave a centre
   int num_triplets = 0;    // triplets examined (Options::max_triplets per pass)
-  int num_candidates = 0;  // groups that passed K and psi (Options::max_candidates per pass)
+  // Groups that passed K and psi, and the crowd pass's closed outlines it checked
+  // (Options::crowd_closed_min_support); Options::max_candidates per pass.
+  int num_candidates = 0;
 };
 
 class Detector {
