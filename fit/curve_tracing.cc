@@ -48,7 +48,6 @@ struct OrderedSteps {
 // so a rim keeps going where texture edges touch it instead of wandering off into them.
 // `work` has a one-pixel border of zeros, so neighbours need no bounds tests; indices are into
 // `work`, offset[k] the index step of move k.
-
 void Follow(std::uint8_t* work, const std::ptrdiff_t* offset, const OrderedSteps& steps, std::int32_t start, int x,
             int y, std::uint8_t cls, std::vector<std::int32_t>* chain) {
   std::int32_t cur = start;

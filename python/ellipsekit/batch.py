@@ -108,30 +108,22 @@ def _gt_spec(gt_dir):
     return {"dir": gt_dir, "dont_care": dont_care}
 
 
-def _parse_args(argv):
-    p = argparse.ArgumentParser(
-        prog="python3 -m ellipsekit.batch",
-        description="Detect ellipses in many images on a Dask cluster; one JSON line per image.",
-        epilog=__doc__[__doc__.index("INPUT: "):], formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("inputs", nargs="+", metavar="INPUT", help="files, directories (recursive) or globs")
-    p.add_argument("--out", required=True, metavar="FILE", help="output JSON lines file")
+def add_cluster_arguments(p, chunk_help):
+    """The flags of the cluster and the progress bar, shared by ellipsekit.batch and ellipsekit.sweep."""
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="LocalCluster of N worker processes (default: the cores, %d here)" % (os.cpu_count() or 1))
     p.add_argument("--threads", type=int, default=1, metavar="T", help="threads per local worker process (default 1; more threads share one "
                         "decoder at a time, since the CLI's loader redirects fd 2 while it decodes, so "
                         "prefer processes)")
     p.add_argument("--scheduler", metavar="ADDR", help="use the Dask cluster at ADDR (tcp://HOST:PORT) instead")
-    p.add_argument("--chunk", type=int, default=None, metavar="K",
-                   help="images per task (default: total / (8 x threads), between 16 and 64)")
-    p.add_argument("--backend", default="auto", help="auto, scalar, simd or vulkan (as the CLI)")
-    p.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
-                   help="a detector option, as the CLI's --option (repeatable)")
-    p.add_argument("--resume", action="store_true", help="skip images already in the output")
-    p.add_argument("--gt", metavar="DIR", help="score against ground truth as `ellipsekit eval` does")
+    p.add_argument("--chunk", type=int, default=None, metavar="K", help=chunk_help)
     p.add_argument("--progress", dest="progress", action="store_true", default=None,
                    help="progress bar even when stderr is not a terminal")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
-    args = p.parse_args(argv)
+
+
+def check_cluster_arguments(p, args):
+    """Usage errors (p.error) for the values of add_cluster_arguments' flags."""
     if args.workers is not None and args.workers < 1:
         p.error(f"--workers: bad value {args.workers}, expected >= 1")
     if args.threads < 1:
@@ -140,6 +132,23 @@ def _parse_args(argv):
         p.error(f"--chunk: bad value {args.chunk}, expected >= 1")
     if args.scheduler and args.workers is not None:
         p.error("--workers and --scheduler exclude each other")
+
+
+def _parse_args(argv):
+    p = argparse.ArgumentParser(
+        prog="python3 -m ellipsekit.batch",
+        description="Detect ellipses in many images on a Dask cluster; one JSON line per image.",
+        epilog=__doc__[__doc__.index("INPUT: "):], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("inputs", nargs="+", metavar="INPUT", help="files, directories (recursive) or globs")
+    p.add_argument("--out", required=True, metavar="FILE", help="output JSON lines file")
+    add_cluster_arguments(p, "images per task (default: total / (8 x threads), between 16 and 64)")
+    p.add_argument("--backend", default="auto", help="auto, scalar, simd or vulkan (as the CLI)")
+    p.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                   help="a detector option, as the CLI's --option (repeatable)")
+    p.add_argument("--resume", action="store_true", help="skip images already in the output")
+    p.add_argument("--gt", metavar="DIR", help="score against ground truth as `ellipsekit eval` does")
+    args = p.parse_args(argv)
+    check_cluster_arguments(p, args)
     args.assignments = tuple([_option_text("backend", args.backend)] + args.option)
     try:
         _ellipsekit.Detector(list(args.assignments))  # the options' errors, before any cluster starts

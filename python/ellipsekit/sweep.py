@@ -34,7 +34,8 @@ import time
 from ellipsekit import _ellipsekit
 from ellipsekit import _option_text
 from ellipsekit._batch_worker import sweep_chunk
-from ellipsekit.batch import _chunks, _gt_spec, _start_cluster, check_workers, iter_inputs
+from ellipsekit.batch import (_chunks, _gt_spec, _start_cluster, add_cluster_arguments, check_cluster_arguments,
+                             check_workers, iter_inputs)
 
 _COLUMNS = ("detected", "truth", "correct", "precision", "recall", "f_measure", "median_ms")
 
@@ -64,25 +65,10 @@ def _parse_args(argv):
     p.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
                    help="a detector option held fixed, as the CLI's --option (repeatable)")
     p.add_argument("--backend", default="auto", help="auto, scalar, simd or vulkan (as the CLI)")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="LocalCluster of N worker processes (default: the cores, %d here)" % (os.cpu_count() or 1))
-    p.add_argument("--threads", type=int, default=1, metavar="T", help="threads per local worker process (default 1)")
-    p.add_argument("--scheduler", metavar="ADDR", help="use the Dask cluster at ADDR (tcp://HOST:PORT) instead")
-    p.add_argument("--chunk", type=int, default=None, metavar="K",
-                   help="images per task (default: images / (4 x threads), between 1 and 16)")
+    add_cluster_arguments(p, "images per task (default: images / (4 x threads), between 1 and 16)")
     p.add_argument("--out", default="sweep.csv", metavar="FILE", help="the table as CSV (default sweep.csv)")
-    p.add_argument("--progress", dest="progress", action="store_true", default=None,
-                   help="progress bar even when stderr is not a terminal")
-    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     args = p.parse_args(argv)
-    if args.workers is not None and args.workers < 1:
-        p.error(f"--workers: bad value {args.workers}, expected >= 1")
-    if args.threads < 1:
-        p.error(f"--threads: bad value {args.threads}, expected >= 1")
-    if args.chunk is not None and args.chunk < 1:
-        p.error(f"--chunk: bad value {args.chunk}, expected >= 1")
-    if args.scheduler and args.workers is not None:
-        p.error("--workers and --scheduler exclude each other")
+    check_cluster_arguments(p, args)
     try:
         grid = [_parse_grid(g) for g in args.grid]
     except ValueError as e:
