@@ -159,6 +159,18 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
       for (int j = 0; j < kept && found && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
       if (found && !detected && !HoldsAnother(i, kept)) c.ellipse = rim;
     }
+    // Options::lid_inside: a jar's lid inside a fit through the body's top outline replaces it,
+    // with the same exceptions; the outline around the lid is the body's, so no rim is sought.
+    if (options.lid_inside && !c.rescued) {
+      const bool found = FindLidInside(in, c.ellipse, &refit_scratch, &rim, &scanned);
+      budget -= scanned;
+      bool detected = false;
+      for (int j = 0; j < kept && found && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
+      if (found && !detected && !HoldsAnother(i, kept)) {
+        c.ellipse = rim;
+        continue;
+      }
+    }
     const NeighbourContacts contacts(candidates, kept, boxes, i);
     bool found = FindOuterRim(in, c.ellipse, options.rim_min_coverage, &rim, &scanned, &contacts);
     budget -= scanned;

@@ -99,7 +99,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"gaussian_blur", &Options::gaussian_blur}, {"refine_fit", &Options::refine_fit},
       {"pair_candidates", &Options::pair_candidates}, {"cluster_pick_best_fit", &Options::cluster_pick_best_fit},
       {"cluster_recessed_rims", &Options::cluster_recessed_rims},
-      {"top_over_side", &Options::top_over_side},
+      {"top_over_side", &Options::top_over_side}, {"lid_inside", &Options::lid_inside},
       {"refit_to_edges", &Options::refit_to_edges}, {"refit_to_image", &Options::refit_to_image}, {"retire_found_arcs", &Options::retire_found_arcs},
       {"fit_pair_centers", &Options::fit_pair_centers},
   };

@@ -1,6 +1,6 @@
 // The edge-map checks of the fit back end on synthetic edge maps with known rings: outer-rim
-// completion (fit/rim_search.h), the recessed rim and the top over a side (fit/recessed_rim.h,
-// fit/top_over_side.h), also end to end through the Detector on a drawn lid whose outer
+// completion (fit/rim_search.h), the recessed rim, the top over a side and the lid inside
+// (fit/recessed_rim.h, fit/top_over_side.h), also end to end through the Detector on a drawn lid whose outer
 // rim has contrast over only part of its length, and edge coverage, claims and fine coverage
 // (fit/edge_coverage.h).
 #include <gtest/gtest.h>
@@ -413,6 +413,72 @@ TEST(TopOverSide, FindsTheTopInsideAFitThroughItsSide) {
     grain.Ring(ring, 1.0, 0, kTwoPi, pi);
   }
   EXPECT_FALSE(ellipsekit::FindTopOverSide(grain.Input(), fit, &scratch, &found, &scanned));
+}
+
+// A jar's lid (backed all round) and the near half of the body's top outline below it, 1.2x the
+// lid about the lid's far point; the detection is the fit through the lid's far arc and that
+// outline (the outline itself). The lid inside it is found; not without the lid's near arc, not
+// when the inner ellipse is a concentric ring (a cup's inner rim), not inside a nearly round
+// detection, not among stripes.
+TEST(LidInside, FindsTheLidInsideAFitThroughTheBodysOutline) {
+  Ellipse lid = Inner();
+  lid.b = 20;
+  lid.theta = 0.08;
+  const double up_x = std::sin(lid.theta), up_y = -std::cos(lid.theta);  // minor axis, up in the image
+  Ellipse fit = lid;
+  fit.a *= 1.2;
+  fit.b *= 1.2;
+  fit.cx -= 0.2 * lid.b * up_x;  // the far points meet
+  fit.cy -= 0.2 * lid.b * up_y;
+  const double pi = std::numbers::pi;
+  ellipsekit::EdgeRefitScratch scratch;
+  scratch.Reserve(kW, kH);
+  Ellipse found;
+  long scanned = 0;
+
+  EdgeFrame jar;
+  jar.Ring(lid, 1.0, 0, kTwoPi);
+  jar.Ring(fit, 1.0, 0, pi);  // the near half (y down: sin t > 0)
+  ASSERT_TRUE(ellipsekit::FindLidInside(jar.Input(), fit, &scratch, &found, &scanned));
+  ExpectSearchFound(found, lid, fit.score, scanned);
+  EXPECT_TRUE(ellipsekit::IsLidInside(found, fit));
+  EXPECT_FALSE(ellipsekit::IsLidInside(fit, fit));
+  Ellipse concentric = fit;  // the lid's size, but centred on the fit: its far point 0.17 b lower
+  concentric.a = lid.a;
+  concentric.b = lid.b;
+  EXPECT_FALSE(ellipsekit::IsLidInside(concentric, fit));
+  Ellipse flatter = lid;  // through the same far point, b scaled 0.07 less than a
+  flatter.b -= 0.07 * fit.b;
+  flatter.cx += 0.07 * fit.b * up_x;
+  flatter.cy += 0.07 * fit.b * up_y;
+  EXPECT_FALSE(ellipsekit::IsLidInside(flatter, fit));
+  flatter.b += 0.04 * fit.b;  // 0.03 less: within the tolerance
+  flatter.cx -= 0.04 * fit.b * up_x;
+  flatter.cy -= 0.04 * fit.b * up_y;
+  EXPECT_TRUE(ellipsekit::IsLidInside(flatter, fit));
+
+  EdgeFrame no_near_arc;
+  no_near_arc.Ring(lid, 1.0, pi, kTwoPi);
+  no_near_arc.Ring(fit, 1.0, 0, pi);
+  EXPECT_FALSE(ellipsekit::FindLidInside(no_near_arc.Input(), fit, &scratch, &found, &scanned));
+
+  EdgeFrame cup;  // outer rim and a concentric inner one
+  cup.Ring(fit, 1.0, 0, kTwoPi);
+  cup.Ring(fit, 0.84, 0, kTwoPi);
+  EXPECT_FALSE(ellipsekit::FindLidInside(cup.Input(), fit, &scratch, &found, &scanned));
+
+  Ellipse round_fit = fit;  // the same drawing inside a nearly round detection: no way is up
+  round_fit.b = 0.95 * round_fit.a;
+  EXPECT_FALSE(ellipsekit::FindLidInside(jar.Input(), round_fit, &scratch, &found, &scanned));
+
+  EdgeFrame grain = jar;  // the lid among rings of opposite gradient 3 px inside and outside
+  for (double d : {-3.0, 3.0}) {
+    Ellipse ring = lid;
+    ring.a += d;
+    ring.b += d;
+    grain.Ring(ring, 1.0, 0, kTwoPi, pi);
+  }
+  EXPECT_FALSE(ellipsekit::FindLidInside(grain.Input(), fit, &scratch, &found, &scanned));
 }
 
 // Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;
