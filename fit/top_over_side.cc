@@ -26,30 +26,50 @@ bool FarPointsMeet(const Ellipse& inside, const Ellipse& e) {
   return std::hypot(tx - ex, ty - ey) <= 0.08 * e.b + 1;
 }
 
-// The searches inside e (its minor axis up, -y >= kTopOverSideMinUp): of `steps` guesses through
-// e's far point, b scaled by values in [min_b, max_b] and a by `a_scale` (0: as b), the best
-// backed (FineEdgeCoverage above kTopOverSideGuessShare) refitted to the edges; false when none
-// is backed so or the refit fails.
-bool BestGuessRefitted(const EdgeMapView& in, const Ellipse& e, double a_scale, double min_b, double max_b, int steps,
-                       EdgeRefitScratch* scratch, Ellipse* best, long* scanned_pixels) {
+// What FindTopOverSide and FindLidInside each ask of the one search inside e below.
+struct InsideSearch {
+  double max_axis_ratio;  // searched only when e.b <= this * e.a
+  double a_scale;         // guesses' a scaled by this (0: as b)
+  double min_b, max_b;    // guesses' b scaled by `steps` values in [min_b, max_b]
+  int steps;
+  bool (*shape)(const Ellipse& found, const Ellipse& e);  // the accepted geometry
+  double min_share;       // FineEdgeCoverage the found ellipse must reach
+};
+
+// The search inside e (b <= max_axis_ratio a, its minor axis up: -y >= kTopOverSideMinUp): of the
+// guesses through e's far point, the best backed (FineEdgeCoverage above kTopOverSideGuessShare)
+// refitted to the edges, then accepted when `shape` holds, it reaches min_share and
+// StripedShare <= kTopOverSideMaxStriped; *found's score is e's.
+bool SearchInside(const EdgeMapView& in, const Ellipse& e, const InsideSearch& search, EdgeRefitScratch* scratch,
+                  Ellipse* found, long* scanned_pixels) {
+  *scanned_pixels = 0;
+  if (e.b > search.max_axis_ratio * e.a) return false;
   double ux, uy;
   MinorAxisUp(e, &ux, &uy);
   if (-uy < kTopOverSideMinUp) return false;
+  Ellipse best;
   double best_share = kTopOverSideGuessShare;
-  for (int k = 0; k < steps; ++k) {
-    const double kb = min_b + (max_b - min_b) * k / (steps - 1);
+  for (int k = 0; k < search.steps; ++k) {
+    const double kb = search.min_b + (search.max_b - search.min_b) * k / (search.steps - 1);
     Ellipse g = e;
-    g.a *= a_scale > 0 ? a_scale : kb;
+    g.a *= search.a_scale > 0 ? search.a_scale : kb;
     g.b *= kb;
     g.cx += (e.b - g.b) * ux;  // the far point stays
     g.cy += (e.b - g.b) * uy;
     const double share = FineEdgeCoverage(in, g, best_share);
     if (share > best_share) {
       best_share = share;
-      *best = g;
+      best = g;
     }
   }
-  return best_share > kTopOverSideGuessShare && FitToEdgesNearRounds(in, kBandPx, kRefits, scratch, best, scanned_pixels);
+  if (best_share <= kTopOverSideGuessShare) return false;
+  if (!FitToEdgesNearRounds(in, kBandPx, kRefits, scratch, &best, scanned_pixels)) return false;
+  if (!search.shape(best, e)) return false;
+  if (FineEdgeCoverage(in, best, search.min_share) < search.min_share) return false;
+  if (StripedShare(in, best, kTopOverSideMaxStriped) > kTopOverSideMaxStriped) return false;
+  *found = best;
+  found->score = e.score;
+  return true;
 }
 }  // namespace
 
@@ -61,18 +81,10 @@ bool IsTopOverSide(const Ellipse& top, const Ellipse& e) {
 
 bool FindTopOverSide(const EdgeMapView& in, const Ellipse& e, EdgeRefitScratch* scratch, Ellipse* top,
                      long* scanned_pixels) {
-  *scanned_pixels = 0;
-  if (e.b > kTopOverSideMaxAxisRatio * e.a) return false;
-  Ellipse best;
-  if (!BestGuessRefitted(in, e, kTopOverSideA, kTopOverSideMinB, kTopOverSideMaxB, kTopOverSideSteps, scratch, &best,
-                         scanned_pixels))
-    return false;
-  if (!IsTopOverSide(best, e)) return false;
-  if (FineEdgeCoverage(in, best, kTopOverSideMinShare) < kTopOverSideMinShare) return false;
-  if (StripedShare(in, best, kTopOverSideMaxStriped) > kTopOverSideMaxStriped) return false;
-  *top = best;
-  top->score = e.score;
-  return true;
+  static constexpr InsideSearch kSearch = {kTopOverSideMaxAxisRatio, kTopOverSideA,     kTopOverSideMinB,
+                                           kTopOverSideMaxB,         kTopOverSideSteps, IsTopOverSide,
+                                           kTopOverSideMinShare};
+  return SearchInside(in, e, kSearch, scratch, top, scanned_pixels);
 }
 
 bool IsLidInside(const Ellipse& lid, const Ellipse& e) {
@@ -84,18 +96,9 @@ bool IsLidInside(const Ellipse& lid, const Ellipse& e) {
 
 bool FindLidInside(const EdgeMapView& in, const Ellipse& e, EdgeRefitScratch* scratch, Ellipse* lid,
                    long* scanned_pixels) {
-  *scanned_pixels = 0;
-  if (e.b > kLidInsideMaxAxisRatio * e.a) return false;
-  Ellipse best;
-  if (!BestGuessRefitted(in, e, 0, kLidInsideMinScale, kLidInsideMaxScale, kLidInsideSteps, scratch, &best,
-                         scanned_pixels))
-    return false;
-  if (!IsLidInside(best, e)) return false;
-  if (FineEdgeCoverage(in, best, kLidInsideMinShare) < kLidInsideMinShare) return false;
-  if (StripedShare(in, best, kTopOverSideMaxStriped) > kTopOverSideMaxStriped) return false;
-  *lid = best;
-  lid->score = e.score;
-  return true;
+  static constexpr InsideSearch kSearch = {kLidInsideMaxAxisRatio, 0,  kLidInsideMinScale, kLidInsideMaxScale,
+                                           kLidInsideSteps,        IsLidInside, kLidInsideMinShare};
+  return SearchInside(in, e, kSearch, scratch, lid, scanned_pixels);
 }
 
 }  // namespace ellipsekit

@@ -110,6 +110,14 @@ class NeighbourContacts final : public RimContacts {
 
 }  // namespace
 
+// Whether e is nearly the same ellipse (NearlySame) as one of candidates[0, kept) other than i.
+bool Detector::Impl::DetectedElsewhere(const Ellipse& e, int i, int kept) const {
+  for (int j = 0; j < kept; ++j) {
+    if (j != i && NearlySame(e, candidates[j].ellipse)) return true;
+  }
+  return false;
+}
+
 // Whether another of candidates[0, kept) lies inside candidates[i] (bounding boxes).
 bool Detector::Impl::HoldsAnother(int i, int kept) const {
   const Box own = BoundingBox(candidates[i].ellipse, 0);
@@ -144,6 +152,8 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     }
     Ellipse rim;
     long scanned = 0;
+    // A search's find replaces c's ellipse unless it is detected already or c holds another.
+    auto replaces = [&](bool found) { return found && !DetectedElsewhere(rim, i, kept) && !HoldsAnother(i, kept); };
     // Options::top_over_side: a fit through the top's far arc and its side's lower edge holds the
     // top inside it, which replaces it (unless detected already); the outer-rim search below then
     // runs around the top (a can's lid found this way still gets its rim). Not when another kept
@@ -155,18 +165,14 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     if (options.top_over_side && !c.rescued) {
       const bool found = FindTopOverSide(in, c.ellipse, &refit_scratch, &rim, &scanned);
       budget -= scanned;
-      bool detected = false;
-      for (int j = 0; j < kept && found && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
-      if (found && !detected && !HoldsAnother(i, kept)) c.ellipse = rim;
+      if (replaces(found)) c.ellipse = rim;
     }
     // Options::lid_inside: a jar's lid inside a fit through the body's top outline replaces it,
     // with the same exceptions; the outline around the lid is the body's, so no rim is sought.
     if (options.lid_inside && !c.rescued) {
       const bool found = FindLidInside(in, c.ellipse, &refit_scratch, &rim, &scanned);
       budget -= scanned;
-      bool detected = false;
-      for (int j = 0; j < kept && found && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
-      if (found && !detected && !HoldsAnother(i, kept)) {
+      if (replaces(found)) {
         c.ellipse = rim;
         continue;
       }
@@ -186,9 +192,7 @@ void Detector::Impl::CompleteOuterRims(int kept, GroupStats* stats) {
     // Already detected as an ellipse of its own (then both stay): nearly the same ellipse, by
     // ClusterRule::kRelative at 0.1, not by eq. 17's 25 px, which would also match a different
     // ellipse nearby (a top-and-side fit below the rim).
-    bool detected = false;
-    for (int j = 0; j < kept && !detected; ++j) detected = j != i && NearlySame(rim, candidates[j].ellipse);
-    if (!detected) {
+    if (!DetectedElsewhere(rim, i, kept)) {
       c.ellipse = c.rim = rim;
       c.has_rim = true;
     }

@@ -157,6 +157,8 @@ struct Detector::Impl {
   } front;
   void CompleteOuterRims(int kept, GroupStats* stats);  // detector_checks.cc
   bool HoldsAnother(int i, int kept) const;             // detector_checks.cc
+  // Whether e is nearly the same ellipse as one of candidates[0, kept) other than i.
+  bool DetectedElsewhere(const Ellipse& e, int i, int kept) const;  // detector_checks.cc
   int KeepExclusivelySupported(int kept);              // detector_checks.cc
   int DropStriped(int kept);                           // detector_checks.cc
   void AddCrowdPass(DetectionResult* result);                           // detector_crowd.cc

@@ -1,8 +1,8 @@
 // The edge-map checks of the fit back end on synthetic edge maps with known rings: outer-rim
 // completion (fit/rim_search.h), the recessed rim, the top over a side and the lid inside
-// (fit/recessed_rim.h, fit/top_over_side.h), also end to end through the Detector on a drawn lid whose outer
-// rim has contrast over only part of its length, and edge coverage, claims and fine coverage
-// (fit/edge_coverage.h).
+// (fit/recessed_rim.h, fit/top_over_side.h), also end to end through the Detector on a drawn lid
+// whose outer rim has contrast over only part of its length, and edge coverage, claims and fine
+// coverage (fit/edge_coverage.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -365,6 +365,18 @@ TEST(RecessedRim, FindsTheRimAboveARecessedLid) {
   EXPECT_FALSE(ellipsekit::FindRecessedRim(below.Input(), lid, &scratch, &found, &scanned));
 }
 
+// f with rings of opposite gradient drawn 3 px inside and outside e: e becomes one stripe of a
+// pattern (the growth rings of a wooden top), which the searches inside a detection refuse.
+EdgeFrame AmongStripes(EdgeFrame f, const Ellipse& e) {
+  for (double d : {-3.0, 3.0}) {
+    Ellipse ring = e;
+    ring.a += d;
+    ring.b += d;
+    f.Ring(ring, 1.0, 0, kTwoPi, std::numbers::pi);
+  }
+  return f;
+}
+
 // A lid's top rim (backed all round, as Canny finds its weak near arc) and the lower edge of the
 // lid's side, h px below its near arc; the detection is the fit through the rim's far arc and that
 // lower edge (wider, as measured on jars). The top inside it is found; not without its near arc,
@@ -405,14 +417,8 @@ TEST(TopOverSide, FindsTheTopInsideAFitThroughItsSide) {
   cup.Ring(fit, 0.88, 0, kTwoPi);
   EXPECT_FALSE(ellipsekit::FindTopOverSide(cup.Input(), fit, &scratch, &found, &scanned));
 
-  EdgeFrame grain = jar;  // the top among rings of opposite gradient 3 px inside and outside
-  for (double d : {-3.0, 3.0}) {
-    Ellipse ring = top;
-    ring.a += d;
-    ring.b += d;
-    grain.Ring(ring, 1.0, 0, kTwoPi, pi);
-  }
-  EXPECT_FALSE(ellipsekit::FindTopOverSide(grain.Input(), fit, &scratch, &found, &scanned));
+  // The top among rings of opposite gradient 3 px inside and outside.
+  EXPECT_FALSE(ellipsekit::FindTopOverSide(AmongStripes(jar, top).Input(), fit, &scratch, &found, &scanned));
 }
 
 // A jar's lid (backed all round) and the near half of the body's top outline below it, 1.2x the
@@ -471,14 +477,8 @@ TEST(LidInside, FindsTheLidInsideAFitThroughTheBodysOutline) {
   round_fit.b = 0.95 * round_fit.a;
   EXPECT_FALSE(ellipsekit::FindLidInside(jar.Input(), round_fit, &scratch, &found, &scanned));
 
-  EdgeFrame grain = jar;  // the lid among rings of opposite gradient 3 px inside and outside
-  for (double d : {-3.0, 3.0}) {
-    Ellipse ring = lid;
-    ring.a += d;
-    ring.b += d;
-    grain.Ring(ring, 1.0, 0, kTwoPi, pi);
-  }
-  EXPECT_FALSE(ellipsekit::FindLidInside(grain.Input(), fit, &scratch, &found, &scanned));
+  // The lid among rings of opposite gradient 3 px inside and outside.
+  EXPECT_FALSE(ellipsekit::FindLidInside(AmongStripes(jar, lid).Input(), fit, &scratch, &found, &scanned));
 }
 
 // Claimed edges support nothing else: not the ellipse that claimed them, nor one a pixel off it;
