@@ -66,7 +66,7 @@ bool FindTopOverSide(const EdgeMapView& in, const Ellipse& e, EdgeRefitScratch* 
 // steeply, the body's top outline (the shoulder's edge) passes just behind the lid's far arc, and
 // the arcs group the lid's far arc with the shoulder's near arc: an ellipse of about the lid's
 // shape, 1.1-1.3x its size, whose far point is the lid's (hard tabletop seed 1: 21 of the 25 jars
-// missed by a near miss, 15 with the far points within 2 px; docs/hard-tabletop-rules.md).
+// missed by a near miss, 15 with the far points within 2 px; docs/nested-outlines.md).
 // Searched inside an e with b <= kLidInsideMaxAxisRatio a and the minor axis up, as above. Guesses:
 // e scaled by kLidInsideSteps values in [kLidInsideMinScale, kLidInsideMaxScale] about its far
 // point; the best backed must reach kTopOverSideGuessShare before the refit (three, at 2 px).
@@ -75,7 +75,7 @@ bool FindTopOverSide(const EdgeMapView& in, const Ellipse& e, EdgeRefitScratch* 
 // kLidInsideMinShare and StripedShare <= kTopOverSideMaxStriped. A concentric inner rim (a cup's,
 // a can's rim wall) has its far point lower by the rim's width and is not taken. Measured
 // (`ellipsekit eval DIR`, correct / detected, against the detector without it; the battery of
-// docs/hard-tabletop-rules.md, 2026-12-07): kLidInsideMaxScale 0.85 / 0.87 / 0.89 / 0.92: hard
+// docs/nested-outlines.md, 2026-12-07): kLidInsideMaxScale 0.85 / 0.87 / 0.89 / 0.92: hard
 // tabletop seed 2 736 -> 738 / 740 / 740 / 740 (jars 146 -> 150 at 0.87), seed 1 at 1280x720 832
 // -> 833 at each, bottles seed 2 669 -> 671 / 670 / 669 / 670, seed 1 716 at 0.85-0.89 (717 at
 // 0.92); at 0.89 scenes seed 11, crowded with clutter seed 2, cup layout and bottles seed 1 -1

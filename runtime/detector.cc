@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <string>
 
+#include "fit/flat_stretches.h"
 #include "fit/obb.h"
 #include "kernels/canny_thresholds.h"
 #include "kernels/noise_sigma.h"
@@ -173,7 +174,7 @@ void Detector::Impl::Resize(int w, int h) {
   dx.resize(n); dy.resize(n); mag.resize(n);
   hist.resize(kMaxMagnitude + 1);
   tiles.Resize(w, h, options);
-  stack.resize(n);  // hysteresis: every pixel at most once
+  stack.resize(n);  // hysteresis, then ClassifyFlatStretches: every pixel at most once
   claims.Resize(w, h);
   refit_scratch.Reserve(w, h);
   // Edge pixels after NMS: 1-6 % of a photograph's or a crowded frame's pixels, up to 22 % on
@@ -272,7 +273,11 @@ Status Detector::Impl::PixelStageAt(const ImageView& image) {
   }
   const auto t1 = Clock::now();
 
-  // Curves: 8-connectivity per class, T_n, OBB (sec. II-A).
+  // Curves: 8-connectivity per class, T_n, OBB (sec. II-A); the classes of flat stretches from
+  // their shape first (fit/flat_stretches.h; the hysteresis is done with its stack).
+  if (options.flat_stretch_classes) {
+    ClassifyFlatStretches(edge_map.data(), w, dx.data(), dy.data(), w, w, h, stack.data());
+  }
   const int edge_pixels =
       TraceCurves(edge_map.data(), w, dx.data(), dy.data(), w, w, h, options.min_curve_points, &curves, &trace,
                   std::max(options.crowd_min_curve_points, kCrowdTriggerMinPoints), &front.short_curves);

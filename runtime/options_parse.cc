@@ -101,7 +101,7 @@ Status SetOption(const std::string& assignment, Options* o) {
       {"cluster_recessed_rims", &Options::cluster_recessed_rims},
       {"top_over_side", &Options::top_over_side}, {"lid_inside", &Options::lid_inside},
       {"refit_to_edges", &Options::refit_to_edges}, {"refit_to_image", &Options::refit_to_image}, {"retire_found_arcs", &Options::retire_found_arcs},
-      {"fit_pair_centers", &Options::fit_pair_centers},
+      {"fit_pair_centers", &Options::fit_pair_centers}, {"flat_stretch_classes", &Options::flat_stretch_classes},
   };
   for (const BoolField& f : bools) {
     if (name == f.name) return ParseBool(value, &(o->*f.field)) ? Status::Ok() : bad("true or false");

@@ -109,6 +109,15 @@ struct Options {
   // of Algorithm I less noisy, so fewer arcs are split at false turning points.
   double polyline_tolerance = 1.5;
   double split_angle_deg = 35.0;    // T_theta: split where |theta_{i+1} - theta_i| > this, (0, 60]
+  // Our addition: before the curves are traced, a level stretch of edge whose gradient-sign class
+  // (eq. 1) flickers with the noise - the flat apex of a top seen at an angle, on a weak edge -
+  // takes the classes of its shape, so its outline is traced as two arcs instead of pieces shorter
+  // than T_n (fit/flat_stretches.h). Measured (`ellipsekit eval DIR [--option
+  // flat_stretch_classes=false]`, correct, off -> on): hard tabletop seeds 1 / 2 / 1 at 1280x720
+  // 716 -> 726 / 740 -> 745 / 833 -> 843 (wooden tops 103 -> 108 on seed 1), capped bottles seed 1
+  // 705 -> 714, scenes seeds 7 / 11 / 23 +3 / +3 / +1; the shared photographs unchanged at 0.5x and
+  // 1x. Cost: +4.2 % of detect()'s instructions (docs/flat-apex.md).
+  bool flat_stretch_classes = true;
 
   // ---- crowd pass (our addition; measured in docs/crowded-scenes.md)
   // Small outlines (semi-minor axis of a few px: dots of a calibration target, caps of a tray seen
