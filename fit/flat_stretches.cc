@@ -123,9 +123,16 @@ int ClassifyFlatStretches(std::uint8_t* edge_map, std::ptrdiff_t stride, const s
         try_pairs(v & (v >> 1) & kOnes, x0, y);
       }
     }
-    std::uint64_t pairs = 0;  // the row's last pixels, as one word
-    for (int x = x0; x + 1 < width; ++x) {
-      if (((row[x] ^ row[x + 1]) & 3) == 3) pairs |= std::uint64_t{1} << (8 * (x - x0));
+    // The row's last pixels from x0 (at most 7 have a right neighbour): the word ending at the
+    // row's end, shifted to start at x0; in a row narrower than 9 px, pixel by pixel.
+    std::uint64_t pairs = 0;
+    if (width >= 9 && x0 + 1 < width) {
+      const std::uint64_t v = raw(row + width - 9) ^ raw(row + width - 8);
+      pairs = (v & (v >> 1) & kOnes) >> (8 * (x0 - (width - 9)));
+    } else {
+      for (int x = x0; x + 1 < width; ++x) {
+        if (((row[x] ^ row[x + 1]) & 3) == 3) pairs |= std::uint64_t{1} << (8 * (x - x0));
+      }
     }
     try_pairs(pairs, x0, y);
   }

@@ -2,6 +2,7 @@
 // the classes of its shape (one change, at the apex) and is traced as two long curves; a clean
 // stretch, a short one, one with a speck of the other class and an upright one keep their classes; on a hard tabletop frame the option
 // finds a wooden top the flicker hid, and `flat_stretch_classes=false` does not.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -23,18 +24,21 @@ constexpr int kW = 160, kH = 80;
 
 // An edge map and its gradients: the pixels set by Add, classed as eq. 1 does (edge_sign.h).
 struct Frame {
-  std::vector<std::uint8_t> edges = std::vector<std::uint8_t>(kW * kH, 0);
-  std::vector<std::int16_t> dx = std::vector<std::int16_t>(kW * kH, 0), dy = dx;
-  std::vector<std::int32_t> queue = std::vector<std::int32_t>(kW * kH, 0);
+  int w = kW;
+  std::vector<std::uint8_t> edges = std::vector<std::uint8_t>(w * kH, 0);
+  std::vector<std::int16_t> dx = std::vector<std::int16_t>(w * kH, 0), dy = dx;
+  std::vector<std::int32_t> queue = std::vector<std::int32_t>(w * kH, 0);
 
+  Frame() = default;
+  explicit Frame(int width) : w(width), edges(w * kH, 0), dx(w * kH, 0), dy(w * kH, 0), queue(w * kH, 0) {}
   void Add(int x, int y, int gx, int gy) {
-    const int i = y * kW + x;
+    const int i = y * w + x;
     dx[i] = static_cast<std::int16_t>(gx);
     dy[i] = static_cast<std::int16_t>(gy);
     edges[i] = gx * gy > 0 ? kEdgePlus : gx * gy < 0 ? kEdgeMinus : kEdgeNone;
   }
-  int Classify() { return ClassifyFlatStretches(edges.data(), kW, dx.data(), dy.data(), kW, kW, kH, queue.data()); }
-  std::uint8_t At(int x, int y) const { return edges[y * kW + x]; }
+  int Classify() { return ClassifyFlatStretches(edges.data(), w, dx.data(), dy.data(), w, w, kH, queue.data()); }
+  std::uint8_t At(int x, int y) const { return edges[y * w + x]; }
 };
 
 // The upper half of an ellipse centred at (80, 50), a = 60, b = 20: one pixel per column, the
@@ -85,6 +89,23 @@ TEST(FlatStretches, FlickeringApexTakesTheClassesOfItsShape) {
   ASSERT_EQ(curves.size(), 2);
   EXPECT_GE(curves.offset[1] - curves.offset[0], 55);
   EXPECT_GE(curves.offset[2] - curves.offset[1], 55);
+}
+
+// A flickering level stretch that ends at the right border is found there too, whatever the
+// frame's width (the last pixels of a row are read as one word ending at the row's end), and in
+// a frame narrower than a word.
+TEST(FlatStretches, FlickerAtTheRowsEndInFramesOfEveryWidth) {
+  for (int width = 3; width <= 64; ++width) {
+    Frame f(width);
+    const int from = std::max(0, width - kFlatMinPixels);  // the shortest stretch, at the end
+    // One row, then the next from its middle on: descending to the right, the tangent's class is
+    // kEdgeMinus all along.
+    auto y_at = [&](int x) { return 30 + (2 * (x - from) >= width - from ? 1 : 0); };
+    for (int x = from; x < width; ++x) f.Add(x, y_at(x), x % 2 == 0 ? 5 : -5, 40);
+    const bool flat = width - from >= kFlatMinPixels;  // long enough to be a stretch
+    EXPECT_EQ(f.Classify() > 0, flat) << width;
+    for (int x = from; flat && x < width; ++x) EXPECT_EQ(f.At(x, y_at(x)), kEdgeMinus) << width << " " << x;
+  }
 }
 
 TEST(FlatStretches, CleanShortSpeckledAndUprightStretchesKeepTheirClasses) {

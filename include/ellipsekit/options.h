@@ -116,7 +116,7 @@ struct Options {
   // flat_stretch_classes=false]`, correct, off -> on): hard tabletop seeds 1 / 2 / 1 at 1280x720
   // 716 -> 726 / 740 -> 745 / 833 -> 843 (wooden tops 103 -> 108 on seed 1), capped bottles seed 1
   // 705 -> 714, scenes seeds 7 / 11 / 23 +3 / +3 / +1; the shared photographs unchanged at 0.5x and
-  // 1x. Cost: +4.2 % of detect()'s instructions (docs/flat-apex.md).
+  // 1x. Cost: +3.9 % of detect()'s instructions (docs/flat-apex.md).
   bool flat_stretch_classes = true;
 
   // ---- crowd pass (our addition; measured in docs/crowded-scenes.md)
