@@ -90,10 +90,11 @@ int ClassifyFlatStretches(std::uint8_t* edge_map, std::ptrdiff_t stride, const s
       v = cls | kQueued;
     }
   };
-  // A stretch is looked at from its first pixel (in raster order) that is level and whose right
-  // neighbour is level and of the other class: a flickering stretch has many such pairs, a stretch
-  // of one class none (its classes are kept). Eight pixels at a time, as the bytes of a word:
-  // classes XOR to 3 exactly where they differ (1 ^ 2; an empty pixel never does).
+  // A stretch is looked at from a pixel that is level and whose right neighbour is level and of
+  // the other class, when the aligned run of 8 pixels holding the pair holds a second such pair (a
+  // flicker; a stretch of one class has none, and keeps its classes). Eight pixels at a time, as
+  // the bytes of a word: classes XOR to 3 exactly where they differ (1 ^ 2; an empty pixel never
+  // does).
   constexpr std::uint64_t kOnes = 0x0101010101010101u;
   auto raw = [](const std::uint8_t* p) {  // into a register (an array would go through the stack)
     std::uint64_t w;

@@ -1,7 +1,8 @@
 // ClassifyFlatStretches (fit/flat_stretches.h): a level stretch whose eq. 1 class flickers takes
-// the classes of its shape (one change, at the apex) and is traced as two long curves; a clean
-// stretch, a short one, one with a speck of the other class and an upright one keep their classes; on a hard tabletop frame the option
-// finds a wooden top the flicker hid, and `flat_stretch_classes=false` does not.
+// the classes of its shape (one change, at the apex) and is traced as two long curves, also at the
+// end of a row in frames of any width; a clean stretch, a short one, one with a speck of the other
+// class, a slow alternation and an upright one keep their classes; on a hard tabletop frame the
+// option finds a wooden top the flicker hid, and `flat_stretch_classes=false` does not.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -24,13 +25,12 @@ constexpr int kW = 160, kH = 80;
 
 // An edge map and its gradients: the pixels set by Add, classed as eq. 1 does (edge_sign.h).
 struct Frame {
-  int w = kW;
-  std::vector<std::uint8_t> edges = std::vector<std::uint8_t>(w * kH, 0);
-  std::vector<std::int16_t> dx = std::vector<std::int16_t>(w * kH, 0), dy = dx;
-  std::vector<std::int32_t> queue = std::vector<std::int32_t>(w * kH, 0);
+  int w;
+  std::vector<std::uint8_t> edges;
+  std::vector<std::int16_t> dx, dy;
+  std::vector<std::int32_t> queue;
 
-  Frame() = default;
-  explicit Frame(int width) : w(width), edges(w * kH, 0), dx(w * kH, 0), dy(w * kH, 0), queue(w * kH, 0) {}
+  explicit Frame(int width = kW) : w(width), edges(w * kH, 0), dx(w * kH, 0), dy(w * kH, 0), queue(w * kH, 0) {}
   void Add(int x, int y, int gx, int gy) {
     const int i = y * w + x;
     dx[i] = static_cast<std::int16_t>(gx);
@@ -43,15 +43,15 @@ struct Frame {
 
 // The upper half of an ellipse centred at (80, 50), a = 60, b = 20: one pixel per column, the
 // gradient its outward normal (magnitude ~40). `noise`: within `flicker` px of the apex, dx is
-// +-noise alternately (a weak flat edge's), every `period` px.
-void AddUpperArc(Frame* f, int noise, int flicker, int period = 2) {
+// +-noise alternately (a weak flat edge's), every 2 px.
+void AddUpperArc(Frame* f, int noise, int flicker) {
   for (int x = 22; x <= 138; ++x) {
     const double u = (x - 80) / 60.0;
     const int y = static_cast<int>(std::lround(50 - 20 * std::sqrt(1 - u * u)));
     const double nx = u / 60.0, ny = -(std::sqrt(1 - u * u)) / 20.0, len = std::hypot(nx, ny);
     int gx = static_cast<int>(std::lround(40 * nx / len));
     const int gy = static_cast<int>(std::lround(40 * ny / len));
-    if (std::abs(x - 80) <= flicker) gx = ((x / period) % 2 == 0 ? 1 : -1) * noise;
+    if (std::abs(x - 80) <= flicker) gx = ((x / 2) % 2 == 0 ? 1 : -1) * noise;
     f->Add(x, y, gx, gy);
   }
 }
