@@ -316,7 +316,7 @@ struct Options {
   // Our addition (needs refine_fit): two-arc groups become candidates too, refitted and validated
   // like triplets (Gamma, K, psi), then held to pair_min_edge_coverage instead of
   // min_edge_coverage. Pairs are the paper's (consecutive quadrants, sec. II-B-3) and opposite
-  // ones (I with III below-left of it, II with IV below-right of it, mid-points within 4 arc
+  // ones (I with III below-left of it, II with IV below-right of it, mid-points within 3 arc
   // extents). A small or flat top often yields only two arcs of >= T_n points, and a top whose
   // other arcs run on into the cylinder's side lines (tangent at the rim's ends, so no turning
   // point splits them) only two clean ones. Measured in README.
