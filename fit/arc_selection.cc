@@ -32,7 +32,9 @@ bool PassesObbRule(const Curves& curves, int begin, int end, const Options& opti
                    std::vector<std::int64_t>* hull) {
   if (options.obb_rule == ObbRule::kMinSide) {  // decided without the box where a quick test proves it
     if (ObbShortSideAtLeast(curves.x.data(), curves.y.data(), begin, end, options.obb_threshold)) return true;
-    if (ObbShortSideBelow(curves.x.data(), curves.y.data(), begin, end, options.obb_threshold)) return false;
+    const ObbShortSideBounds bounds = ShortSideBounds(curves.x.data(), curves.y.data(), begin, end, options.obb_threshold);
+    if (bounds.lower >= options.obb_threshold) return true;
+    if (bounds.upper < options.obb_threshold) return false;
   }
   const ObbSides obb = MinAreaObb(curves.x.data(), curves.y.data(), begin, end, hull);
   if (options.obb_rule == ObbRule::kMinSide) return obb.short_side >= options.obb_threshold;

@@ -40,24 +40,59 @@ bool ObbShortSideAtLeast(const std::int32_t* x, const std::int32_t* y, int begin
   return proven_by(begin, begin + n / 2, end - 1) || proven_by(begin, begin + n / 3, begin + 2 * n / 3);
 }
 
-bool ObbShortSideBelow(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t) {
-  if (end - begin < 2) return false;
-  const double ux = x[end - 1] - x[begin], uy = y[end - 1] - y[begin];
-  const double c2 = ux * ux + uy * uy;
-  if (!(c2 > 0)) return false;
-  // Extents along and across the chord, in units of |chord|: a = along * across / c2 is the area.
+ObbShortSideBounds ShortSideBounds(const std::int32_t* x, const std::int32_t* y, int begin, int end, double t) {
+  ObbShortSideBounds bounds;
+  if (end - begin < 2) return bounds;
+  double ux = x[end - 1] - x[begin], uy = y[end - 1] - y[begin];
+  if (ux == 0 && uy == 0) ux = 1;
+  // Projections along and across (ux, uy), in units of |u| px: integers, exact in doubles.
+  auto along = [&](int i) { return (x[i] - x[begin]) * ux + (y[i] - y[begin]) * uy; };
+  auto across = [&](int i) { return (x[i] - x[begin]) * uy - (y[i] - y[begin]) * ux; };
   double lo_along = 0, hi_along = 0, lo_across = 0, hi_across = 0;
-  for (int i = begin; i < end; ++i) {
-    const double dx = x[i] - x[begin], dy = y[i] - y[begin];
-    const double along = dx * ux + dy * uy, across = dx * uy - dy * ux;
-    lo_along = std::min(lo_along, along);
-    hi_along = std::max(hi_along, along);
-    lo_across = std::min(lo_across, across);
-    hi_across = std::max(hi_across, across);
+  for (int i = begin + 1; i < end; ++i) {
+    lo_along = std::min(lo_along, along(i));
+    hi_along = std::max(hi_along, along(i));
+    lo_across = std::min(lo_across, across(i));
+    hi_across = std::max(hi_across, across(i));
   }
-  const double area = (hi_along - lo_along) * (hi_across - lo_across) / c2;
-  // sqrt(2) A / c < t, squared; a margin of 1e-9 relative keeps rounding on the safe side.
-  return 2 * area * area < t * t * c2 * (1 - 1e-9);
+  const double u2 = ux * ux + uy * uy;
+  const double length = hi_along - lo_along, width = hi_across - lo_across;
+  const double area = length * width / u2;                          // px^2
+  const double d2 = std::max(length * length, width * width) / u2;  // D^2 >= the longer side^2
+  // g^-1(A): s^2 = 2 A^2 / (D^2 + sqrt(D^4 - 4 A^2)) while 2 A <= D^2 (no cancellation), else A.
+  const double upper2 =
+      2 * area <= d2 ? 2 * area * area / (d2 + std::sqrt(std::max(0.0, d2 * d2 - 4 * area * area))) : area;
+  bounds.upper = std::sqrt(upper2) * (1 + 1e-9);
+  if (bounds.upper < t) return bounds;  // decided: the hull below is not needed
+
+  // The hull of the extreme points: a pair (i, j) is a hull edge when every point lies on one
+  // side of its line; the minimum width is the least, over hull edges, of the farthest point's
+  // distance from the edge's line (0 when all are collinear).
+  int idx[6] = {begin, end - 1, begin, begin, begin, begin};
+  for (int i = begin + 1; i < end; ++i) {
+    if (along(i) == lo_along) idx[2] = i;
+    if (along(i) == hi_along) idx[3] = i;
+    if (across(i) == lo_across) idx[4] = i;
+    if (across(i) == hi_across) idx[5] = i;
+  }
+  double min_width2 = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 6; ++a) {
+    for (int b = a + 1; b < 6; ++b) {
+      const std::int64_t ex = x[idx[b]] - x[idx[a]], ey = y[idx[b]] - y[idx[a]];
+      if (ex == 0 && ey == 0) continue;
+      std::int64_t lo = 0, hi = 0;
+      for (int k = 0; k < 6; ++k) {
+        const std::int64_t cross = ex * (y[idx[k]] - y[idx[a]]) - ey * (x[idx[k]] - x[idx[a]]);
+        lo = std::min(lo, cross);
+        hi = std::max(hi, cross);
+      }
+      if (lo < 0 && hi > 0) continue;  // not a hull edge
+      const double far = double(std::max(hi, -lo));
+      min_width2 = std::min(min_width2, far * far / double(ex * ex + ey * ey));
+    }
+  }
+  if (min_width2 != std::numeric_limits<double>::infinity()) bounds.lower = std::sqrt(min_width2) * (1 - 1e-9);
+  return bounds;
 }
 
 ObbSides MinAreaObb(const std::int32_t* x, const std::int32_t* y, int begin, int end,

@@ -400,7 +400,7 @@ TEST(FitArcs, ObbQuickTestsAgreeWithTheBox) {
   for (int trial = 0; trial < 400; ++trial) {
     std::vector<std::int32_t> x, y;
     const int n = 5 + trial % 60;
-    const int kind = trial % 3;
+    const int kind = trial % 4;
     const double r = 5 + trial % 40, span = 0.3 + 0.01 * (trial % 250);
     for (int i = 0; i < n; ++i) {
       if (kind == 0) {  // an arc of a circle
@@ -410,6 +410,9 @@ TEST(FitArcs, ObbQuickTestsAgreeWithTheBox) {
       } else if (kind == 1) {  // a near-straight walk
         x.push_back(i);
         y.push_back(std::rand() % 4 == 0 ? 1 : 0);
+      } else if (kind == 3) {  // a near-straight walk about as thick as the default T_O, tilted
+        x.push_back(i + i / 3);
+        y.push_back(i / 2 + std::rand() % 3);
       } else {  // a random 8-connected walk
         x.push_back(i == 0 ? 0 : x.back() + std::rand() % 3 - 1);
         y.push_back(i == 0 ? 0 : y.back() + std::rand() % 3 - 1);
@@ -421,10 +424,17 @@ TEST(FitArcs, ObbQuickTestsAgreeWithTheBox) {
         EXPECT_GE(box.short_side, t - 1e-9) << "trial " << trial << " t " << t;
         ++proven_at_least;
       }
-      if (ObbShortSideBelow(x.data(), y.data(), 0, n, t)) {
-        EXPECT_LT(box.short_side, t) << "trial " << trial << " t " << t;
-        ++proven_below;
-      }
+    }
+    const ObbShortSideBounds bounds = ShortSideBounds(x.data(), y.data(), 0, n, 0);
+    EXPECT_LE(bounds.lower, box.short_side) << "trial " << trial;
+    EXPECT_GE(bounds.upper, box.short_side) << "trial " << trial;
+    for (const double t : {1.0, 2.0, 3.0, 5.0}) {
+      proven_at_least += bounds.lower >= t;
+      proven_below += bounds.upper < t;
+      // Asked at t, the lower bound is left out only when the upper one already decides.
+      const ObbShortSideBounds at_t = ShortSideBounds(x.data(), y.data(), 0, n, t);
+      EXPECT_EQ(at_t.upper, bounds.upper);
+      EXPECT_TRUE(at_t.lower == bounds.lower || (at_t.lower == 0 && at_t.upper < t));
     }
   }
   EXPECT_GT(proven_at_least, 200);
