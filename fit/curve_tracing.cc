@@ -135,12 +135,24 @@ int TraceCurves(const std::uint8_t* edge_map, std::ptrdiff_t stride, const std::
         if (short_out == nullptr || n < static_cast<std::size_t>(short_out_min_points)) continue;
         to = short_out;
       }
+      // One resize per curve, then plain stores (4 push_backs per point cost a capacity test each).
+      const std::size_t base = to->x.size();
+      to->x.resize(base + n);
+      to->y.resize(base + n);
+      to->gx.resize(base + n);
+      to->gy.resize(base + n);
+      std::int32_t* ox = to->x.data() + base;
+      std::int32_t* oy = to->y.data() + base;
+      std::int16_t* ogx = to->gx.data() + base;
+      std::int16_t* ogy = to->gy.data() + base;
+      std::size_t k = 0;
       auto append = [&](std::int32_t xy) {
         const int py = xy >> 16, px = xy & 0xffff;
-        to->x.push_back(px);
-        to->y.push_back(py);
-        to->gx.push_back(dx[py * grad_stride + px]);
-        to->gy.push_back(dy[py * grad_stride + px]);
+        ox[k] = px;
+        oy[k] = py;
+        ogx[k] = dx[py * grad_stride + px];
+        ogy[k] = dy[py * grad_stride + px];
+        ++k;
       };
       for (auto it = scratch->backward.rbegin(); it != scratch->backward.rend(); ++it) append(*it);
       append(PackXY(x, y));
