@@ -10,6 +10,8 @@
 // low and high those of the pixel's tile (NmsThresholds; one tile: the classic one pair per frame).
 // Border: the outermost rows and columns are always 0.
 // Exact: integer only.
+// Domain: the Sobel's planes (|dx|, |dy| <= 1020, mag = |dx| + |dy|); a backend may rely on
+// |dx|, |dy| <= 16383 and mag <= 32767 (the Highway one works in 16-bit lanes).
 #pragma once
 
 #include <cstddef>
