@@ -7,8 +7,8 @@
 namespace ellipsekit {
 
 namespace {
-// Stack entries are (from << 28) | (y << 14) | x: the move that reached the pixel (kMoves) and
-// its position (14 bits each for the 16384-px limit); no division per pixel.
+// Stack entries are (from << 28) | (y << 14) | x: the move that reached the pixel (an index into
+// kMoveX / kMoveY) and its position (14 bits each for the 16384-px limit); no division per pixel.
 constexpr int kPackShift = 14;
 constexpr std::int32_t kPackMask = (1 << kPackShift) - 1;
 static_assert((7 << 2 * kPackShift) + (16383 << kPackShift) + 16383 > 0, "an entry fits int32");
