@@ -19,8 +19,9 @@ constexpr int kMoveY[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 // The neighbours of a pixel reached by move m that are not neighbours of the pixel it was reached
 // from: 3 after a straight move (m even: m - 1, m, m + 1), 5 after a diagonal one (m - 2 .. m + 2),
 // moves mod 8, clockwise on screen (y down). The parent's pop tested all of its own neighbours
-// already, and one it left unmarked is neither weak nor strong. The switch in HysteresisFlood
-// lists them; this check proves its lists.
+// already, and one it left unmarked is neither weak nor strong. This check proves that rule from
+// the move tables; the switch in HysteresisFlood spells it out, and conformance_hysteresis checks
+// the switch itself against the contract.
 constexpr bool IsNewNeighbour(int m, int k) {
   const int ox = kMoveX[m] + kMoveX[k], oy = kMoveY[m] + kMoveY[k];  // offset from the parent
   return ox * ox > 1 || oy * oy > 1;
@@ -51,7 +52,7 @@ void HysteresisFlood(std::uint8_t* map, int width, int height, std::ptrdiff_t st
                      std::int32_t* stack, int x, int y) {
   std::int64_t top = 0;
   // Marks and pushes the neighbour along move k of the pixel at p, packed `at`, when it is weak
-  // or strong (k a constant at every call below, so the offsets fold).
+  // or strong (in the switch below k is a constant, so the offsets fold).
   auto reach = [&](std::uint8_t* p, std::int32_t at, int k) {
     std::uint8_t& q = p[kMoveY[k] * stride + kMoveX[k]];
     if (q == kNmsWeak || q == kNmsStrong) {
