@@ -1,10 +1,11 @@
 // Edge curves by 8-connectivity, one gradient class at a time (sec. II-A).
 //
 // Pixels are visited in raster order; from each unvisited edge pixel the chain is followed in
-// both directions, always taking the first unvisited neighbour of the same class in the order
-// E, S, W, N, SE, SW, NW, NE (4-neighbours first, so staircase pixels are not skipped). A junction
-// ends a chain; its other branches become chains of their own. Deterministic: the same EdgeMap
-// always gives the same curves in the same order.
+// both directions. The first step takes the first unvisited neighbour of the same class in the
+// order E, S, W, N, SE, SW, NW, NE; every later step the unvisited same-class neighbour that turns
+// least from the step before (ties in that order), so at a junction a rim keeps going straight and
+// the other branches become chains of their own. Deterministic: the same EdgeMap always gives the
+// same curves in the same order.
 #pragma once
 
 #include <cstddef>
