@@ -23,7 +23,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 
 #include "cpu/simd_kernels.h"
@@ -34,29 +33,8 @@ namespace ellipsekit {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// One interior pixel exactly as kernels/nms.cc classifies it.
-HWY_INLINE std::uint8_t NmsPixel(const std::uint16_t* mp, const std::uint16_t* mc,
-                                 const std::uint16_t* mn, const std::int16_t* gx,
-                                 const std::int16_t* gy, int x, int low, int high) {
-  const int m = mc[x];
-  if (m <= low) return kNmsNone;
-  const std::int32_t ax = std::abs(gx[x]), ay = std::abs(gy[x]);
-  const std::int32_t ay15 = ay << 15;
-  bool is_max;
-  if (ay15 < kTan22Q15 * ax) {
-    is_max = m > mc[x - 1] && m >= mc[x + 1];
-  } else if (ay15 > kTan67Q15 * ax) {
-    is_max = m > mp[x] && m >= mn[x];
-  } else {
-    const int s = ((gx[x] ^ gy[x]) < 0) ? -1 : 1;
-    is_max = m > mp[x - s] && m > mn[x + s];
-  }
-  if (!is_max) return kNmsNone;
-  return (m > high) ? kNmsStrong : kNmsWeak;
-}
-
 // A threshold as an int16 lane: mag lies in [0, 32767], so clamping keeps every m > t the same.
-std::int16_t ClampToInt16(std::int32_t t) { return static_cast<std::int16_t>(std::clamp(t, -32768, 32767)); }
+HWY_INLINE std::int16_t ClampToInt16(std::int32_t t) { return static_cast<std::int16_t>(std::clamp(t, -32768, 32767)); }
 
 void NmsImpl(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* mag, int width,
              int height, std::ptrdiff_t stride, const NmsThresholds& th, std::uint8_t* out,

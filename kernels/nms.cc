@@ -1,6 +1,5 @@
 #include "kernels/nms.h"
 
-#include <cstdlib>
 #include <cstring>
 
 namespace ellipsekit::scalar {
@@ -20,21 +19,7 @@ void Nms(const std::int16_t* dx, const std::int16_t* dy, const std::uint16_t* ma
     const std::int32_t* low_row = th.low + (y >> th.shift) * th.tiles_x;
     const std::int32_t* high_row = th.high + (y >> th.shift) * th.tiles_x;
     for (int x = 1; x < width - 1; ++x) {
-      const int m = mc[x];
-      const int low = low_row[x >> th.shift], high = high_row[x >> th.shift];
-      if (m <= low) continue;
-      const std::int32_t ax = std::abs(gx[x]), ay = std::abs(gy[x]);
-      const std::int32_t ay15 = ay << 15;
-      bool is_max;
-      if (ay15 < kTan22Q15 * ax) {
-        is_max = m > mc[x - 1] && m >= mc[x + 1];
-      } else if (ay15 > kTan67Q15 * ax) {
-        is_max = m > mp[x] && m >= mn[x];
-      } else {
-        const int s = ((gx[x] ^ gy[x]) < 0) ? -1 : 1;
-        is_max = m > mp[x - s] && m > mn[x + s];
-      }
-      if (is_max) o[x] = (m > high) ? kNmsStrong : kNmsWeak;
+      o[x] = NmsPixel(mp, mc, mn, gx, gy, x, low_row[x >> th.shift], high_row[x >> th.shift]);
     }
   }
 }

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 
 namespace ellipsekit {
 
@@ -37,6 +38,29 @@ struct NmsThresholds {
   const std::int32_t* low = nullptr;
   const std::int32_t* high = nullptr;
 };
+
+// Interior pixel x of a row, as the contract above classifies it: mp, mc, mn the magnitudes of
+// the rows above, at and below it; gx, gy its row of the gradient; low, high its tile's pair.
+// The one statement of the per-pixel rule: the scalar reference runs it on every pixel, the
+// Highway version on the tail of each run shorter than a vector.
+inline NmsClass NmsPixel(const std::uint16_t* mp, const std::uint16_t* mc, const std::uint16_t* mn,
+                         const std::int16_t* gx, const std::int16_t* gy, int x, int low, int high) {
+  const int m = mc[x];
+  if (m <= low) return kNmsNone;
+  const std::int32_t ax = std::abs(gx[x]), ay = std::abs(gy[x]);
+  const std::int32_t ay15 = ay << 15;
+  bool is_max;
+  if (ay15 < kTan22Q15 * ax) {
+    is_max = m > mc[x - 1] && m >= mc[x + 1];
+  } else if (ay15 > kTan67Q15 * ax) {
+    is_max = m > mp[x] && m >= mn[x];
+  } else {
+    const int s = ((gx[x] ^ gy[x]) < 0) ? -1 : 1;
+    is_max = m > mp[x - s] && m > mn[x + s];
+  }
+  if (!is_max) return kNmsNone;
+  return m > high ? kNmsStrong : kNmsWeak;
+}
 
 // One pair for the whole frame (classic Canny); view() lives as long as the pair.
 struct NmsOnePair {
