@@ -13,7 +13,8 @@
 //   vertical:   m >  mag(x, y-1)   and m >= mag(x, y+1)
 //   diagonal:   m >  mag(x-s, y-1) and m >  mag(x+s, y+1),  s = +1 when dx, dy share a sign.
 // Each tile's columns (kernels/nms.h NmsThresholds) go as one run with that tile's thresholds;
-// a run's tail shorter than a vector uses the reference code per pixel.
+// a run's tail shorter than a vector goes pixel by pixel through the reference's own rule
+// (kernels/nms.h NmsPixel).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cpu/nms.cc"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
